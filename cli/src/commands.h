@@ -1,0 +1,33 @@
+#pragma once
+// fabkit's command-line front end: main() parses into settings and calls run_<command>.
+
+#include <string>
+#include <vector>
+
+namespace fabkit::cli {
+
+/// Exit codes, one per failure class (documented in README.md).
+enum ExitCode : int {
+  kExitOk = 0,          ///< valid design / stable
+  kExitUsage = 1,       ///< bad command line
+  kExitBadInput = 2,    ///< unreadable or malformed input
+  kExitInfeasible = 3,  ///< the design cannot be built (a connect was rejected)
+};
+
+struct CheckSettings {
+  std::string design;                  ///< path, or the embedded demo when empty
+  std::vector<std::string> part_files; ///< extra part libraries (YAML)
+  bool quiet = false;                  ///< only diagnostics, no per-step lines
+  int restarts = 16;
+  unsigned seed = 1;
+};
+
+int run_check(const CheckSettings& settings);
+int run_demo();
+
+struct PartsSettings {
+  std::string name;  ///< one part in detail, or all when empty
+};
+int run_parts(const PartsSettings& settings);
+
+}  // namespace fabkit::cli

@@ -1,0 +1,41 @@
+// fabkit command line: parse, then hand over to run_<command>().
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+
+#include "commands.h"
+
+int main(int argc, char** argv) {
+  using namespace fabkit::cli;
+  CLI::App app{"fabkit: design physical things from parts and get a plan you can build"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "fabkit 0.1.0");
+
+  CheckSettings check;
+  CLI::App* check_cmd = app.add_subcommand(
+      "check", "Verify every connect of a FabHaL design file and report each outcome");
+  check_cmd->add_option("design", check.design, "design file (YAML)")->required();
+  check_cmd->add_option("--parts", check.part_files, "extra part library file(s) (YAML)");
+  check_cmd->add_flag("-q,--quiet", check.quiet, "print diagnostics only");
+  check_cmd->add_option("--restarts", check.restarts, "starts of the cycle-closure search (T)")
+      ->check(CLI::Range(1, 1000));
+  check_cmd->add_option("--seed", check.seed, "seed of the random starts");
+
+  CLI::App* demo_cmd =
+      app.add_subcommand("demo", "Check the bundled bird feeder hack (paper Fig. 1, left)");
+
+  PartsSettings parts;
+  CLI::App* parts_cmd = app.add_subcommand("parts", "List the parts library, or show one part");
+  parts_cmd->add_option("name", parts.name, "part name");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitUsage;
+  }
+  if (*check_cmd) return run_check(check);
+  if (*demo_cmd) return run_demo();
+  if (*parts_cmd) return run_parts(parts);
+  return kExitUsage;
+}

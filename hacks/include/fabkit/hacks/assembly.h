@@ -1,0 +1,250 @@
+#pragma once
+/// FabHaL assemblies (paper §4.2): add / connect / end_with, in reduced coordinates.
+///
+/// Parts form a kinematic forest rooted at the environments. A connect() that brings a new
+/// part in extends the tree; a connect() between two parts already in the assembly closes a
+/// cycle and becomes a constraint. Every connect is verified before it is accepted; a
+/// rejected connect leaves the assembly unchanged.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fabkit/core/diagnostics.h"
+#include "fabkit/core/frame.h"
+#include "fabkit/hacks/connection_rules.h"
+#include "fabkit/hacks/connector_frame.h"
+#include "fabkit/hacks/part.h"
+
+namespace fabkit::hacks {
+
+struct PartId {
+  int value = -1;
+  bool valid() const { return value >= 0; }
+  auto operator<=>(const PartId&) const = default;
+};
+
+struct ConnectionId {
+  int value = -1;
+  bool valid() const { return value >= 0; }
+  auto operator<=>(const ConnectionId&) const = default;
+};
+
+/// A primitive of a part instance: what connect() takes. The shared_ptr identifies the
+/// instance (two DoubleHook() calls are two parts).
+struct PrimitiveRef {
+  std::shared_ptr<Part> part;
+  int index = -1;
+  std::string requested;  ///< the name asked for, kept for diagnostics when index is -1
+
+  PrimitiveRef() = default;
+  PrimitiveRef(std::shared_ptr<Part> p, int i) : part(std::move(p)), index(i) {}
+  /// Looks the primitive up by name ("hole" and "ring" alias); index -1 if unknown.
+  PrimitiveRef(std::shared_ptr<Part> p, std::string_view name);
+  bool valid() const;
+  const Primitive& primitive() const { return part->primitives[static_cast<std::size_t>(index)]; }
+};
+
+/// Options of the verification run by every connect().
+struct VerifyOptions {
+  int restarts = 16;           ///< T: starts of the cycle-closure search (paper §4.3.2)
+  std::uint64_t seed = 1;      ///< seeds the random starts (same input, same answer)
+  double tolerance = 1e-6;     ///< closed when Σ‖f‖² is below this (mm², deg²)
+  int max_iterations = 100;    ///< per start
+  bool quick_reject = true;    ///< polygon-inequality check before the search
+};
+
+struct ConnectOptions {
+  AlignmentChoice alignment = AlignmentChoice::kDefault;
+  bool fixed = false;          ///< hold this connection's parameters during relaxation
+  SourceLocation where;        ///< for diagnostics of design files
+  VerifyOptions verify;
+};
+
+/// One side of a connection: a connector frame on a primitive and its parameters, which
+/// live at [offset, offset + params.size()) of the assembly's parameter vector.
+struct Connector {
+  PartId part;
+  int primitive = -1;
+  int offset = 0;
+  std::vector<ParamSpec> params;
+};
+
+struct Connection {
+  Connector first;   ///< the primitive already in the assembly (tree: the parent side)
+  Connector second;  ///< the new primitive (tree: the child side)
+  AlignmentChoice alignment = AlignmentChoice::kDefault;
+  Mat4 offset = Mat4::Identity();  ///< C_first · offset = C_second when connected
+  bool fixed = false;
+  bool closes_cycle = false;
+  SourceLocation where;
+};
+
+/// A part instance in the assembly.
+struct PartNode {
+  std::shared_ptr<Part> part;
+  bool environment = false;
+  Frame frame;                       ///< environments: fixed world frame
+  ConnectionId parent;               ///< tree edge to the parent (invalid for environments)
+};
+
+/// A parameter of the assembly's vector with its owner, for messages and front ends.
+struct ParamInfo {
+  ParamSpec spec;
+  ConnectionId connection;
+  PartId part;
+  int primitive = -1;
+};
+
+/// Outcome of one add / connect.
+struct ConnectReport {
+  bool accepted = false;
+  bool closes_cycle = false;
+  std::string description;          ///< "eyehook2.hook ↔ basket.hook"
+  std::vector<std::string> cycles;  ///< the cycles this connect closes
+  Diagnostics diagnostics;
+  int starts_used = 0;              ///< cycle-closure starts run
+  double residual = 0;              ///< best Σ‖f‖² found by the closure search
+  double milliseconds = 0;          ///< verification time
+  /// Configuration with the smallest residual found (the whole parameter vector), also
+  /// when the connect is rejected, so a front end can show how close it came.
+  std::vector<double> best_parameters;
+  /// World frame of every part (including a part this connect tried to bring in) at
+  /// best_parameters, in the order the parts were (or would have been) added.
+  std::vector<Frame> best_part_frames;
+  ConnectionId connection;
+};
+
+/// The target of end_with: a primitive and where it should be.
+struct Target {
+  std::shared_ptr<Part> part;
+  int primitive = 0;
+  Frame frame;  ///< world frame the target primitive should reach
+};
+
+class Assembly {
+ public:
+  /// Adds an environment part at a fixed world frame.
+  ConnectReport add(std::shared_ptr<Part> environment, const Frame& frame,
+                    const SourceLocation& where = {});
+  /// Adds an environment through one of its primitives (paper App. B.2): a one-primitive
+  /// part is placed at `frame`; otherwise only that primitive's base frame is replaced.
+  ConnectReport add(const PrimitiveRef& primitive, const Frame& frame,
+                    const SourceLocation& where = {});
+  /// The paper's connect: verifies, then either brings a new part in or closes a cycle.
+  ConnectReport connect(const PrimitiveRef& a, const PrimitiveRef& b,
+                        const ConnectOptions& options = {});
+  /// Target: the part's frame becomes `frame` and its first primitive's resulting world
+  /// frame is the goal (paper App. B.1).
+  Diagnostics end_with(std::shared_ptr<Part> part, const Frame& frame,
+                       const SourceLocation& where = {});
+  /// Target: the primitive's world frame should be `frame`.
+  Diagnostics end_with(const PrimitiveRef& primitive, const Frame& frame,
+                       const SourceLocation& where = {});
+
+  // ---- the model -------------------------------------------------------------------------
+  int part_count() const { return static_cast<int>(parts_.size()); }
+  const PartNode& node(PartId id) const { return parts_.at(static_cast<std::size_t>(id.value)); }
+  const std::vector<PartNode>& nodes() const { return parts_; }
+  std::optional<PartId> find(const Part* part) const;
+  /// "eyehook1" (instance name), "Basket" (only one of its type) or "DoubleHook#2".
+  std::string label(PartId id) const;
+  /// "DoubleHook#2.hook1".
+  std::string label(PartId id, int primitive) const;
+
+  const std::vector<Connection>& connections() const { return connections_; }
+  const Connection& connection(ConnectionId id) const {
+    return connections_.at(static_cast<std::size_t>(id.value));
+  }
+  /// Cycle-closing connections, in program order.
+  std::vector<ConnectionId> cycle_connections() const;
+  /// Parts on the cycle closed by `c`, as "Rods.rod1 – HookEye#1 – Basket – …".
+  std::string describe_cycle(ConnectionId c) const;
+  /// The loop closed by `c` as two tree paths: each starts at one side's part and climbs
+  /// to the top of the loop, the lowest common ancestor (shared as both paths' last
+  /// element) or, for a loop through two environments, each side's environment.
+  struct CyclePath {
+    std::vector<PartId> first_side;
+    std::vector<PartId> second_side;
+    bool common_ancestor = false;
+  };
+  CyclePath cycle_path(ConnectionId c) const;
+
+  int parameter_count() const { return static_cast<int>(params_.size()); }
+  const std::vector<ParamInfo>& parameters() const { return params_; }
+  /// Current parameter values: the defaults, updated by every successful cycle check.
+  const std::vector<double>& values() const { return values_; }
+  void set_values(std::vector<double> x);
+
+  /// World frame of every part for parameter vector `x` (forward propagation).
+  std::vector<Mat4> part_frames(const std::vector<double>& x) const;
+
+  /// World frame of a part, differentiable in x.
+  template <class T>
+  Mat4T<T> part_frame(PartId id, const T* x) const;
+  /// World frames of a connection's two connector frames, the first including the
+  /// alignment offset; equal when the connection is closed.
+  template <class T>
+  std::pair<Mat4T<T>, Mat4T<T>> connection_frames(ConnectionId id, const T* x) const;
+
+  /// Available critical dimension of a primitive (§4.3); empty if it has none.
+  std::vector<double> available_critical_dim(PartId id, int primitive) const;
+
+  const std::optional<Target>& target() const { return target_; }
+  /// Connections involving a primitive.
+  std::vector<ConnectionId> connections_of(PartId id, int primitive) const;
+
+ private:
+  struct PrimitiveState {
+    std::vector<double> available;  ///< available critical dimension
+    int connections = 0;
+  };
+
+  PartId insert_part(std::shared_ptr<Part> part, bool environment, const Frame& frame);
+  Connector make_connector(PartId part, int primitive, std::vector<ParamSpec> params);
+  template <class T>
+  Mat4T<T> connector_world(const Connector& c, const Mat4T<T>& part_frame, const T* x) const;
+
+  std::vector<PartNode> parts_;
+  std::vector<std::vector<PrimitiveState>> primitive_state_;
+  std::vector<Connection> connections_;
+  std::vector<ParamInfo> params_;
+  std::vector<double> values_;
+  std::optional<Target> target_;
+};
+
+// ---- templates ---------------------------------------------------------------------------
+
+template <class T>
+Mat4T<T> Assembly::connector_world(const Connector& c, const Mat4T<T>& frame, const T* x) const {
+  const Primitive& p = parts_[static_cast<std::size_t>(c.part.value)]
+                           .part->primitives[static_cast<std::size_t>(c.primitive)];
+  return frame * connector_frame<T>(p, x + c.offset);
+}
+
+template <class T>
+Mat4T<T> Assembly::part_frame(PartId id, const T* x) const {
+  const PartNode& n = parts_[static_cast<std::size_t>(id.value)];
+  if (!n.parent.valid()) return n.frame.matrix().cast<T>();
+  const Connection& c = connections_[static_cast<std::size_t>(n.parent.value)];
+  const Mat4T<T> parent = part_frame<T>(c.first.part, x);
+  const Primitive& child_prim =
+      n.part->primitives[static_cast<std::size_t>(c.second.primitive)];
+  // Q = P · C_first · A · C_second⁻¹
+  return connector_world<T>(c.first, parent, x) * c.offset.cast<T>() *
+         rigid_inverse<T>(connector_frame<T>(child_prim, x + c.second.offset));
+}
+
+template <class T>
+std::pair<Mat4T<T>, Mat4T<T>> Assembly::connection_frames(ConnectionId id, const T* x) const {
+  const Connection& c = connections_[static_cast<std::size_t>(id.value)];
+  const Mat4T<T> first = connector_world<T>(c.first, part_frame<T>(c.first.part, x), x) *
+                         c.offset.cast<T>();
+  const Mat4T<T> second = connector_world<T>(c.second, part_frame<T>(c.second.part, x), x);
+  return {first, second};
+}
+
+}  // namespace fabkit::hacks

@@ -1,0 +1,56 @@
+#pragma once
+/// Parts: annotated everyday objects carrying connector primitives (paper §3).
+
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fabkit/core/mesh.h"
+#include "fabkit/hacks/primitive.h"
+
+namespace fabkit::hacks {
+
+/// Which list of the paper's library a part belongs to (§10.2 "library" column).
+enum class PartCategory {
+  kEnvironment,  ///< environment / target objects (env_library)
+  kHack,         ///< parts to build hacks from (full_library)
+  kBoth,         ///< in both lists (TwoholeBasket)
+  kOther,        ///< used by examples or the study but in neither list
+};
+std::string_view to_string(PartCategory c);
+
+/// A part: its primitives at fixed frames in the part's coordinates, its mass properties and
+/// a display mesh. Values, cheap to copy apart from the mesh.
+struct Part {
+  std::string type_name;  ///< library name, e.g. "DoubleHook"; "Environment" for loose primitives
+  /// Optional label of this instance ("eyehook1"); diagnostics use it instead of "Type#k".
+  std::string instance_name;
+  std::string description;
+  PartCategory category = PartCategory::kOther;
+  std::vector<Primitive> primitives;
+  /// Mass in the reference's units: mesh volume in mm³ at density 1. Only ratios matter.
+  double mass = 0;
+  /// Centre of mass in the part's coordinates, mm.
+  Vec3 center_of_mass = Vec3::Zero();
+  /// Display mesh in the part's coordinates, mm.
+  TriangleMesh mesh;
+  /// Values of a parametric part's parameters (empty for fixed parts).
+  std::map<std::string, double> params;
+
+  /// Index of the primitive called `name`, or -1. "holeN" and "ringN" name the same
+  /// primitive (the paper calls rings holes).
+  int find_primitive(std::string_view name) const;
+  /// "hook1, hook2" for messages.
+  std::string primitive_list() const;
+};
+
+/// Display mesh of one primitive in its part's coordinates (torus arcs, cylinders, boxes,
+/// spheres), built from the shape parameters.
+TriangleMesh primitive_mesh(const Primitive& p);
+
+/// A part made of loose primitives, as the paper's Environment({"name": Primitive, ...}).
+/// Its display mesh is the union of the primitive meshes and its mass is 0.
+Part make_primitive_part(std::vector<Primitive> primitives);
+
+}  // namespace fabkit::hacks

@@ -1,0 +1,286 @@
+// The only translation unit that includes Ceres for verification.
+#include "cycle_closure.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "constraints.h"
+
+namespace fabkit::hacks::detail {
+namespace {
+
+// splitmix64: tiny, seedable, identical on every platform (std distributions are not).
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed) : state_(seed) {}
+  double uniform() {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return static_cast<double>(z >> 11) * 0x1.0p-53;
+  }
+
+ private:
+  std::uint64_t state_;
+};
+
+struct Layout {
+  std::vector<ConnectionId> closures;
+  std::vector<std::optional<Vec3>> free_axes;
+  std::vector<MultiConnectionPair> multi;
+  std::vector<int> variables;  // indices into x that the search moves
+};
+
+// Parameters that can move a cycle: every connector on the root paths of both sides of
+// each closing connection, plus the closing connection's own.
+Layout make_layout(const Assembly& a) {
+  Layout layout;
+  std::set<int> vars;
+  auto add_connector = [&](const Connector& c) {
+    for (std::size_t i = 0; i < c.params.size(); ++i) {
+      if (!c.params[i].constant) vars.insert(c.offset + static_cast<int>(i));
+    }
+  };
+  auto add_path = [&](PartId p) {
+    while (a.node(p).parent.valid()) {
+      const Connection& up = a.connection(a.node(p).parent);
+      add_connector(up.first);
+      add_connector(up.second);
+      p = up.first.part;
+    }
+  };
+  for (ConnectionId id : a.cycle_connections()) {
+    const Connection& c = a.connection(id);
+    layout.closures.push_back(id);
+    layout.free_axes.push_back(free_rotation_axis(a, id));
+    add_connector(c.first);
+    add_connector(c.second);
+    add_path(c.first.part);
+    add_path(c.second.part);
+  }
+  for (const MultiConnectionPair& m : multi_connection_pairs(a)) {
+    bool touches = false;
+    for (int i : m.params_i) touches |= vars.count(i) > 0;
+    for (int j : m.params_j) touches |= vars.count(j) > 0;
+    if (touches) layout.multi.push_back(m);
+  }
+  layout.variables.assign(vars.begin(), vars.end());
+  return layout;
+}
+
+struct ClosureCost {
+  const Assembly* assembly;
+  const Layout* layout;
+  std::vector<double> base;  // full x; the variables are overwritten
+
+  int residual_count() const {
+    return static_cast<int>(layout->closures.size()) * kClosureResiduals +
+           static_cast<int>(layout->multi.size());
+  }
+
+  template <class T>
+  bool operator()(T const* const* params, T* residuals) const {
+    std::vector<T> x(base.size());
+    for (std::size_t i = 0; i < base.size(); ++i) x[i] = T(base[i]);
+    for (std::size_t k = 0; k < layout->variables.size(); ++k) {
+      x[static_cast<std::size_t>(layout->variables[k])] = params[0][k];
+    }
+    T* out = residuals;
+    for (std::size_t c = 0; c < layout->closures.size(); ++c) {
+      closure_residuals<T>(*assembly, layout->closures[c], layout->free_axes[c], x.data(), out);
+      out += kClosureResiduals;
+    }
+    for (const MultiConnectionPair& m : layout->multi) {
+      const T f = multi_connection_value<T>(m, x.data());
+      *out++ = f < T(0) ? f : T(0);
+    }
+    return true;
+  }
+};
+
+double cost_at(const ClosureCost& functor, const std::vector<double>& z) {
+  std::vector<double> r(static_cast<std::size_t>(functor.residual_count()));
+  const double* blocks[] = {z.data()};
+  functor(blocks, r.data());
+  double s = 0;
+  for (double v : r) s += v * v;
+  return s;
+}
+
+}  // namespace
+
+std::vector<MultiConnectionPair> multi_connection_pairs(const Assembly& a) {
+  std::vector<MultiConnectionPair> out;
+  for (int p = 0; p < a.part_count(); ++p) {
+    const Part& part = *a.node(PartId{p}).part;
+    for (int prim = 0; prim < static_cast<int>(part.primitives.size()); ++prim) {
+      const std::vector<ConnectionId> conns = a.connections_of(PartId{p}, prim);
+      if (conns.size() < 2) continue;
+      const Primitive& self = part.primitives[static_cast<std::size_t>(prim)];
+      const std::vector<double> length = self.critical_dim();
+      struct Use {
+        std::vector<int> params;
+        std::vector<double> cd;
+        PartId neighbour;
+        int neighbour_prim;
+      };
+      std::vector<Use> uses;
+      std::set<int> neighbours;
+      for (ConnectionId id : conns) {
+        const Connection& c = a.connection(id);
+        const bool self_first = c.first.part.value == p && c.first.primitive == prim;
+        const Connector& mine = self_first ? c.first : c.second;
+        const Connector& other = self_first ? c.second : c.first;
+        if (!neighbours.insert(other.part.value).second) continue;
+        Use u;
+        for (std::size_t i = 0; i < mine.params.size(); ++i) {
+          if (mine.params[i].critical_dim) u.params.push_back(mine.offset + static_cast<int>(i));
+        }
+        const Primitive& op =
+            a.node(other.part).part->primitives[static_cast<std::size_t>(other.primitive)];
+        u.cd = op.connector_critical_dim();
+        u.neighbour = other.part;
+        u.neighbour_prim = other.primitive;
+        uses.push_back(u);
+      }
+      for (std::size_t i = 0; i < uses.size(); ++i) {
+        for (std::size_t j = i + 1; j < uses.size(); ++j) {
+          const Use& ui = uses[i];
+          const Use& uj = uses[j];
+          if (ui.params.empty() || ui.params.size() != uj.params.size() ||
+              ui.params.size() != length.size() || ui.cd.size() < length.size() ||
+              uj.cd.size() < length.size()) {
+            continue;
+          }
+          MultiConnectionPair m;
+          m.params_i = ui.params;
+          m.params_j = uj.params;
+          m.length = length;
+          for (std::size_t k = 0; k < length.size(); ++k) m.need.push_back(ui.cd[k] + uj.cd[k]);
+          m.description = fmt::format("{} and {} on {}",
+                                      a.label(ui.neighbour, ui.neighbour_prim),
+                                      a.label(uj.neighbour, uj.neighbour_prim),
+                                      a.label(PartId{p}, prim));
+          out.push_back(std::move(m));
+        }
+      }
+    }
+  }
+  return out;
+}
+
+double closure_cost(const Assembly& assembly, const std::vector<double>& x) {
+  const Layout layout = make_layout(assembly);
+  ClosureCost functor{&assembly, &layout, x};
+  std::vector<double> z;
+  for (int v : layout.variables) z.push_back(x[static_cast<std::size_t>(v)]);
+  return cost_at(functor, z);
+}
+
+std::vector<ClosureGap> closure_gaps(const Assembly& assembly, const std::vector<double>& x) {
+  std::vector<ClosureGap> out;
+  for (ConnectionId id : assembly.cycle_connections()) {
+    const auto [f1, f2] = assembly.connection_frames<double>(id, x.data());
+    ClosureGap g;
+    g.connection = id;
+    g.position_mm = (f1.topRightCorner<3, 1>() - f2.topRightCorner<3, 1>()).norm();
+    const std::optional<Vec3> axis = free_rotation_axis(assembly, id);
+    if (axis) {
+      const Vec3 u = f1.topLeftCorner<3, 3>() * *axis;
+      const Vec3 v = f2.topLeftCorner<3, 3>() * *axis;
+      g.rotation_deg = std::atan2(u.cross(v).norm(), u.dot(v)) * kRadToDeg;
+    } else {
+      const Mat3 rel = f1.topLeftCorner<3, 3>().transpose() * f2.topLeftCorner<3, 3>();
+      g.rotation_deg = Eigen::AngleAxisd(rel).angle() * kRadToDeg;
+    }
+    out.push_back(g);
+  }
+  return out;
+}
+
+ClosureResult close_cycles(const Assembly& assembly, const std::vector<double>& x0,
+                           const VerifyOptions& options) {
+  const Layout layout = make_layout(assembly);
+  ClosureResult result;
+  result.x = x0;
+  const std::size_t m = layout.variables.size();
+  auto* functor = new ClosureCost{&assembly, &layout, x0};
+  result.cost = cost_at(*functor, [&] {
+    std::vector<double> z;
+    for (int v : layout.variables) z.push_back(x0[static_cast<std::size_t>(v)]);
+    return z;
+  }());
+  if (m == 0 || functor->residual_count() == 0) {
+    result.closed = result.cost <= options.tolerance;
+    delete functor;
+    return result;
+  }
+
+  // Problem owns the cost function (and with it the functor).
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<ClosureCost, 4>(functor);
+  cost->AddParameterBlock(static_cast<int>(m));
+  cost->SetNumResiduals(functor->residual_count());
+
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = 1e-16;
+  solver_options.gradient_tolerance = 1e-16;
+  solver_options.parameter_tolerance = 1e-14;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+  solver_options.minimizer_progress_to_stdout = false;
+
+  std::vector<double> z(m);
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  problem.AddResidualBlock(cost, nullptr, z.data());
+  for (std::size_t k = 0; k < m; ++k) {
+    const ParamSpec& s = assembly.parameters()[static_cast<std::size_t>(layout.variables[k])].spec;
+    if (s.tag == ParamTag::kUnbounded) continue;
+    problem.SetParameterLowerBound(z.data(), static_cast<int>(k), s.lo);
+    problem.SetParameterUpperBound(z.data(), static_cast<int>(k), s.hi);
+  }
+
+  Rng rng(options.seed);
+  double best = std::numeric_limits<double>::infinity();
+  const int starts = std::max(1, options.restarts);
+  for (int start = 0; start < starts; ++start) {
+    for (std::size_t k = 0; k < m; ++k) {
+      const int v = layout.variables[k];
+      const ParamSpec& s = assembly.parameters()[static_cast<std::size_t>(v)].spec;
+      if (start == 0) {
+        // First start: the current configuration, kept inside its bounds.
+        double val = x0[static_cast<std::size_t>(v)];
+        if (s.tag != ParamTag::kUnbounded) val = std::clamp(val, s.lo, s.hi);
+        z[k] = val;
+      } else {
+        z[k] = s.lo + rng.uniform() * (s.hi - s.lo);
+      }
+    }
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver_options, &problem, &summary);
+    result.starts = start + 1;
+    const double c = cost_at(*functor, z);
+    if (c < best) {
+      best = c;
+      result.cost = c;
+      for (std::size_t k = 0; k < m; ++k) result.x[static_cast<std::size_t>(layout.variables[k])] = z[k];
+    }
+    if (best <= options.tolerance) {
+      result.closed = true;
+      break;
+    }
+  }
+  return result;
+}
+
+}  // namespace fabkit::hacks::detail

@@ -1,0 +1,36 @@
+#pragma once
+// Cycle-closure feasibility search (paper §4.3.2) with Ceres: bounded nonlinear least
+// squares over the connector parameters on the cycles, automatic derivatives,
+// deterministic seeded restarts.
+
+#include <vector>
+
+#include "fabkit/hacks/assembly.h"
+
+namespace fabkit::hacks::detail {
+
+struct ClosureResult {
+  bool closed = false;
+  double cost = 0;          ///< Σ‖f‖² (mm², deg²) plus multi-connection penalties (mm²)
+  std::vector<double> x;    ///< best parameter vector found
+  int starts = 0;
+};
+
+/// Searches parameters that close every cycle-closing connection of `assembly` and keep
+/// multiply-connected primitives' connections apart, starting from `x0`, then from
+/// options.restarts - 1 seeded random points; stops at the first success.
+ClosureResult close_cycles(const Assembly& assembly, const std::vector<double>& x0,
+                           const VerifyOptions& options);
+
+/// Σ‖f‖² of the closure residuals and multi-connection penalties at `x`.
+double closure_cost(const Assembly& assembly, const std::vector<double>& x);
+
+/// Per-connection closure error at `x`: position gap in mm and orientation gap in degrees.
+struct ClosureGap {
+  ConnectionId connection;
+  double position_mm = 0;
+  double rotation_deg = 0;
+};
+std::vector<ClosureGap> closure_gaps(const Assembly& assembly, const std::vector<double>& x);
+
+}  // namespace fabkit::hacks::detail

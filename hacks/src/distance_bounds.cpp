@@ -1,0 +1,268 @@
+#include "distance_bounds.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+namespace fabkit::hacks::detail {
+namespace {
+
+struct PointSet {
+  const Primitive* primitive = nullptr;
+  std::vector<ParamSpec> specs;
+  std::vector<int> moving;               // parameters that move the connector point
+  std::vector<std::vector<double>> q;    // parameters of each sample
+  std::vector<Vec3> points;              // connector origins in part coordinates
+  double margin = 0;  // every reachable point lies within `margin` of some sample
+};
+
+Vec3 connector_position(const Primitive& p, const std::vector<double>& q) {
+  return connector_frame<double>(p, q.data()).topRightCorner<3, 1>();
+}
+
+// Samples the connector origins of `p` over its whole parameter box, in part coordinates.
+PointSet sample_connector_points(const Primitive& p) {
+  PointSet out;
+  out.primitive = &p;
+  out.specs = p.connector_params();
+  const std::vector<ParamSpec>& specs = out.specs;
+  std::vector<double> q0;
+  for (const auto& s : specs) q0.push_back(s.init);
+  const Vec3 p0 = connector_position(p, q0);
+
+  // Only parameters that move the point matter (spins and tilts do not).
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    std::vector<double> q = q0;
+    q[i] = specs[i].lo + 0.37 * (specs[i].hi - specs[i].lo);
+    if ((connector_position(p, q) - p0).norm() > 1e-9) out.moving.push_back(static_cast<int>(i));
+  }
+  const int dims = static_cast<int>(out.moving.size());
+  const int n = dims <= 1 ? 97 : (dims == 2 ? 25 : 11);
+
+  struct Axis {
+    double lo, step;
+    int count;
+  };
+  std::vector<Axis> axes;
+  for (int i : out.moving) {
+    const ParamSpec& s = specs[static_cast<std::size_t>(i)];
+    if (s.tag == ParamTag::kUnbounded) {
+      axes.push_back({0.0, 360.0 / n, n});
+    } else {
+      axes.push_back({s.lo, (s.hi - s.lo) / (n - 1), n});
+    }
+  }
+
+  std::vector<double> max_rate(axes.size(), 0.0);
+  std::vector<int> idx(axes.size(), 0);
+  while (true) {
+    std::vector<double> q = q0;
+    for (std::size_t d = 0; d < axes.size(); ++d) {
+      q[static_cast<std::size_t>(out.moving[d])] = axes[d].lo + axes[d].step * idx[d];
+    }
+    out.points.push_back(connector_position(p, q));
+    // Rate of change along each axis, for the covering margin.
+    for (std::size_t d = 0; d < axes.size(); ++d) {
+      const double h = std::max(axes[d].step * 1e-3, 1e-7);
+      std::vector<double> qp = q;
+      qp[static_cast<std::size_t>(out.moving[d])] += h;
+      max_rate[d] =
+          std::max(max_rate[d], (connector_position(p, qp) - out.points.back()).norm() / h);
+    }
+    out.q.push_back(std::move(q));
+    std::size_t d = 0;
+    for (; d < axes.size(); ++d) {
+      if (++idx[d] < axes[d].count) break;
+      idx[d] = 0;
+    }
+    if (d == axes.size()) break;
+  }
+  for (std::size_t d = 0; d < axes.size(); ++d) out.margin += 0.5 * max_rate[d] * axes[d].step;
+  out.margin *= 1.1;  // curvature between samples
+  return out;
+}
+
+// Compass search from the best sample pair: sharpens the extreme distance so messages quote
+// the real number; the sampling margin still guards the reject decision.
+double refine_extreme(const PointSet& a, const Mat4& fa, std::vector<double> qa, const PointSet& b,
+                      const Mat4& fb, std::vector<double> qb, double sign) {
+  auto dist = [&](const std::vector<double>& x, const std::vector<double>& y) {
+    const Vec3 u = fa.topLeftCorner<3, 3>() * connector_position(*a.primitive, x) +
+                   fa.topRightCorner<3, 1>();
+    const Vec3 v = fb.topLeftCorner<3, 3>() * connector_position(*b.primitive, y) +
+                   fb.topRightCorner<3, 1>();
+    return sign * (u - v).norm();
+  };
+  struct Var {
+    std::vector<double>* q;
+    const ParamSpec* spec;
+    std::size_t index;
+  };
+  std::vector<Var> vars;
+  for (int i : a.moving) vars.push_back({&qa, &a.specs[static_cast<std::size_t>(i)], static_cast<std::size_t>(i)});
+  for (int i : b.moving) vars.push_back({&qb, &b.specs[static_cast<std::size_t>(i)], static_cast<std::size_t>(i)});
+  double best = dist(qa, qb);
+  std::vector<double> step;
+  for (const Var& v : vars) {
+    step.push_back(v.spec->tag == ParamTag::kUnbounded ? 15.0 : (v.spec->hi - v.spec->lo) / 16);
+  }
+  for (int round = 0; round < 60; ++round) {
+    bool improved = false;
+    for (std::size_t k = 0; k < vars.size(); ++k) {
+      for (double dir : {-1.0, 1.0}) {
+        double& x = (*vars[k].q)[vars[k].index];
+        const double old = x;
+        x = old + dir * step[k];
+        if (vars[k].spec->tag != ParamTag::kUnbounded) {
+          x = std::clamp(x, vars[k].spec->lo, vars[k].spec->hi);
+        }
+        const double d = dist(qa, qb);
+        if (d < best - 1e-12) {
+          best = d;
+          improved = true;
+        } else {
+          x = old;
+        }
+      }
+    }
+    if (!improved) {
+      bool any = false;
+      for (double& s : step) {
+        s *= 0.5;
+        any |= s > 1e-7;
+      }
+      if (!any) break;
+    }
+  }
+  return sign * best;
+}
+
+}  // namespace
+
+DistanceRange connector_distance_range(const Primitive& a, const Mat4& frame_a,
+                                       const Primitive& b, const Mat4& frame_b,
+                                       bool same_point_set) {
+  const PointSet sa = sample_connector_points(a);
+  const PointSet sb = same_point_set ? sa : sample_connector_points(b);
+  auto place = [](const Vec3& v, const Mat4& m) {
+    return Vec3(m.topLeftCorner<3, 3>() * v + m.topRightCorner<3, 1>());
+  };
+  std::vector<Vec3> pb;
+  pb.reserve(sb.points.size());
+  for (const Vec3& v : sb.points) pb.push_back(place(v, frame_b));
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -1;
+  std::size_t lo_i = 0, lo_j = 0, hi_i = 0, hi_j = 0;
+  for (std::size_t i = 0; i < sa.points.size(); ++i) {
+    const Vec3 u = place(sa.points[i], frame_a);
+    for (std::size_t j = 0; j < pb.size(); ++j) {
+      const double d = (u - pb[j]).norm();
+      if (d < lo) {
+        lo = d;
+        lo_i = i;
+        lo_j = j;
+      }
+      if (d > hi) {
+        hi = d;
+        hi_i = i;
+        hi_j = j;
+      }
+    }
+  }
+  DistanceRange r;
+  r.margin = sa.margin + sb.margin;
+  r.hi = std::max(hi, refine_extreme(sa, frame_a, sa.q[hi_i], sb, frame_b, sb.q[hi_j], -1.0));
+  r.lo = same_point_set
+             ? 0.0
+             : std::min(lo, refine_extreme(sa, frame_a, sa.q[lo_i], sb, frame_b, sb.q[lo_j], 1.0));
+  return r;
+}
+
+PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closing) {
+  const Connection& c = assembly.connection(closing);
+
+  const Assembly::CyclePath loop = assembly.cycle_path(closing);
+  const std::vector<PartId>& path_a = loop.first_side;
+  const std::vector<PartId>& path_b = loop.second_side;
+  const bool common_ancestor = loop.common_ancestor;
+
+  // The primitive of part path[k] that connects towards the closing connection.
+  auto down_primitive = [&](const std::vector<PartId>& path, std::size_t k, int closing_prim) {
+    if (k == 0) return closing_prim;
+    return assembly.connection(assembly.node(path[k - 1]).parent).first.primitive;
+  };
+  auto up_primitive = [&](PartId p) {
+    return assembly.connection(assembly.node(p).parent).second.primitive;
+  };
+
+  PolygonVerdict verdict;
+  const Mat4 identity = Mat4::Identity();
+  auto add_segment = [&](PartId part, int pa, int pb) {
+    const Part& body = *assembly.node(part).part;
+    CycleSegment seg;
+    if (pa == pb) {
+      seg.description = fmt::format("across {}", assembly.label(part, pa));
+    } else {
+      seg.description = fmt::format("between {} and {}",
+                                    assembly.label(part, pa),
+                                    assembly.label(part, pb));
+    }
+    seg.range = connector_distance_range(body.primitives[static_cast<std::size_t>(pa)],
+                                         identity,
+                                         body.primitives[static_cast<std::size_t>(pb)],
+                                         identity,
+                                         pa == pb);
+    verdict.segments.push_back(seg);
+  };
+
+  // Parts strictly below the common top on each side.
+  const std::size_t below_a = path_a.size() - 1;
+  const std::size_t below_b = path_b.size() - 1;
+  for (std::size_t k = 0; k < below_a; ++k) {
+    add_segment(path_a[k], down_primitive(path_a, k, c.first.primitive), up_primitive(path_a[k]));
+  }
+  for (std::size_t k = 0; k < below_b; ++k) {
+    add_segment(path_b[k], down_primitive(path_b, k, c.second.primitive), up_primitive(path_b[k]));
+  }
+  const int top_a = down_primitive(path_a, below_a, c.first.primitive);
+  const int top_b = down_primitive(path_b, below_b, c.second.primitive);
+  if (common_ancestor) {
+    add_segment(path_a.back(), top_a, top_b);
+  } else {
+    // Two environments: both are fixed in the world, so measure between them there.
+    const PartNode& ea = assembly.node(path_a.back());
+    const PartNode& eb = assembly.node(path_b.back());
+    CycleSegment seg;
+    seg.description = fmt::format("between {} and {}",
+                                  assembly.label(path_a.back(), top_a),
+                                  assembly.label(path_b.back(), top_b));
+    seg.range = connector_distance_range(ea.part->primitives[static_cast<std::size_t>(top_a)],
+                                         ea.frame.matrix(),
+                                         eb.part->primitives[static_cast<std::size_t>(top_b)],
+                                         eb.frame.matrix(),
+                                         false);
+    verdict.segments.push_back(seg);
+  }
+
+  double total_hi = 0;
+  double total_margin = 0;
+  for (const auto& s : verdict.segments) {
+    total_hi += s.range.hi;
+    total_margin += s.range.margin;
+  }
+  for (std::size_t k = 0; k < verdict.segments.size(); ++k) {
+    const double others = total_hi - verdict.segments[k].range.hi;
+    // Reject only beyond what sampling could have missed.
+    if (verdict.segments[k].range.lo - total_margin > others) {
+      verdict.feasible = false;
+      verdict.failing = static_cast<int>(k);
+      verdict.others_span = others;
+      break;
+    }
+  }
+  return verdict;
+}
+
+}  // namespace fabkit::hacks::detail

@@ -1,0 +1,189 @@
+#include "fabkit/hacks/assembly.h"
+
+#include <gtest/gtest.h>
+
+#include "test_support.h"
+
+namespace fabkit::hacks {
+namespace {
+
+using testing::make_part;
+using testing::rod_environment;
+
+void expect_frame_near(const Mat4& m, const Vec3& pos, const Vec3& rot, double tol_mm = 1e-4) {
+  EXPECT_NEAR((m.topRightCorner<3, 1>() - pos).norm(), 0.0, tol_mm) << "pos " << m.topRightCorner<3, 1>().transpose();
+  const Mat3 expected = Frame(Vec3::Zero(), rot).matrix().topLeftCorner<3, 3>();
+  EXPECT_LT((m.topLeftCorner<3, 3>() - expected).norm(), 1e-5) << "rot " << Frame::from_matrix(m).rot.transpose();
+}
+
+// Reference Appendix A: the Demo (paper Fig. 10) propagated at the default parameters.
+TEST(Assembly, DemoMatchesReferenceAtDefaultParameters) {
+  auto env = rod_environment(10, 500);
+  auto hanger = make_part("Hanger");
+  auto doublehook = make_part("DoubleHook");
+  auto ring = make_part("CurtainRing");
+  Assembly a;
+  ASSERT_TRUE(a.add(env, Frame(Vec3(0, 0, 400), Vec3(90, 0, 90))).accepted);
+  ASSERT_TRUE(a.connect({hanger, "hook1"}, {env, "rod"}).accepted);
+  ASSERT_TRUE(a.connect({doublehook, "hook1"}, {hanger, "rod"}).accepted);
+  ASSERT_TRUE(a.connect({ring, "hook"}, {doublehook, "hook2"}).accepted);
+  ASSERT_TRUE(a.end_with(PrimitiveRef(ring, "hook"), Frame(Vec3(0, 2.1, 142), Vec3(87, 0, 0))).empty());
+
+  struct Expected {
+    const char* name;
+    double value, lo, hi;
+    ParamTag tag;
+  };
+  const Expected params[] = {
+      {"t", 0.5, 0, 1, ParamTag::kBoundedAndOpen},
+      {"phi", 90, 45, 135, ParamTag::kBoundedAndOpen},
+      {"theta", 90, 0, 270, ParamTag::kBoundedAndOpen},
+      {"t", 0.5, 0, 1, ParamTag::kBoundedAndClamped},
+      {"phi", 90, 45, 135, ParamTag::kBoundedAndClamped},
+      {"theta", 135, 0, 270, ParamTag::kBoundedAndOpen},
+      {"phi", 90, 45, 135, ParamTag::kBoundedAndOpen},
+      {"theta", 135, 0, 270, ParamTag::kBoundedAndOpen},
+      {"phi", 90, 45, 135, ParamTag::kBoundedAndOpen},
+      {"theta", 171, 0, 342, ParamTag::kBoundedAndClamped},
+  };
+  ASSERT_EQ(a.parameter_count(), 10);
+  for (int i = 0; i < 10; ++i) {
+    const ParamInfo& p = a.parameters()[static_cast<std::size_t>(i)];
+    EXPECT_EQ(p.spec.name, params[i].name) << i;
+    EXPECT_DOUBLE_EQ(a.values()[static_cast<std::size_t>(i)], params[i].value) << i;
+    EXPECT_DOUBLE_EQ(p.spec.lo, params[i].lo) << i;
+    EXPECT_DOUBLE_EQ(p.spec.hi, params[i].hi) << i;
+    EXPECT_EQ(p.spec.tag, params[i].tag) << i;
+  }
+
+  const std::vector<Mat4> frames = a.part_frames(a.values());
+  ASSERT_EQ(frames.size(), 4u);
+  expect_frame_near(frames[0], Vec3(0, 0, 400), Vec3(90, 0, 90));
+  expect_frame_near(frames[1], Vec3(0, 58.689863, 334.410137), Vec3(315, 0, 180));
+  expect_frame_near(frames[2], Vec3(8.202439, 146.58496, 246.51504), Vec3(315, 315, 90));
+  expect_frame_near(frames[3], Vec3(16.404877, 171.108722, 219.735512), Vec3(90, 310.5, 270));
+
+  // The target primitive and the reference's user objective U at these parameters.
+  const Mat4 target = frames[3] * ring->primitives[0].frame.matrix();
+  expect_frame_near(target, Vec3(16.404877, 172.325371, 220.774629), Vec3(36, 0, 360));
+  const Vec6 diff = frame_difference(Frame::from_matrix(target), a.target()->frame, Vec3(360, 360, 360));
+  EXPECT_NEAR(diff.squaredNorm(), 38052.23917269693, 1e-3);
+
+  // The templated, differentiable path agrees with forward propagation.
+  for (int p = 0; p < a.part_count(); ++p) {
+    EXPECT_LT((a.part_frame<double>(PartId{p}, a.values().data()) - frames[static_cast<std::size_t>(p)]).norm(), 1e-9);
+  }
+}
+
+TEST(Assembly, LabelsCountInstancesOfAType) {
+  auto env = rod_environment(5, 500);
+  auto dh1 = make_part("DoubleHook");
+  auto dh2 = make_part("DoubleHook");
+  auto basket = make_part("Basket");
+  Assembly a;
+  a.add(env, Frame());
+  ASSERT_TRUE(a.connect({dh1, "hook1"}, {env, "rod"}).accepted);
+  EXPECT_EQ(a.label(PartId{1}), "DoubleHook");
+  ASSERT_TRUE(a.connect({dh2, "hook1"}, {env, "rod"}).accepted);
+  EXPECT_EQ(a.label(PartId{1}), "DoubleHook#1");
+  EXPECT_EQ(a.label(PartId{2}, 0), "DoubleHook#2.hook1");
+  EXPECT_EQ(a.label(PartId{0}, 0), "Environment.rod");
+  basket->instance_name = "mybasket";
+  ASSERT_TRUE(a.connect({basket, "rod1"}, {dh1, "hook2"}).accepted);
+  EXPECT_EQ(a.label(PartId{3}), "mybasket");
+}
+
+TEST(Assembly, ConnectNeedsAnEnvironmentAndAKnownPart) {
+  auto dh1 = make_part("DoubleHook");
+  auto dh2 = make_part("DoubleHook");
+  Assembly a;
+  EXPECT_TRUE(testing::has_diagnostic(a.connect({dh1, "hook1"}, {dh2, "hook1"}).diagnostics,
+                                      DiagnosticCode::kNoEnvironment, "add() one first"));
+  auto env = rod_environment(5, 500);
+  a.add(env, Frame());
+  EXPECT_TRUE(testing::has_diagnostic(a.connect({dh1, "hook1"}, {dh2, "hook1"}).diagnostics,
+                                      DiagnosticCode::kNotInAssembly,
+                                      "neither DoubleHook nor DoubleHook is in the assembly"));
+  EXPECT_TRUE(testing::has_diagnostic(a.connect({dh1, "hook7"}, {env, "rod"}).diagnostics,
+                                      DiagnosticCode::kUnknownPrimitive,
+                                      "DoubleHook has no primitive 'hook7' (it has hook1, hook2)"));
+  EXPECT_EQ(a.part_count(), 1);
+}
+
+TEST(Assembly, RejectedConnectLeavesTheAssemblyUnchanged) {
+  auto env = rod_environment(12.7, 2920);
+  auto dh = make_part("DoubleHook");
+  Assembly a;
+  a.add(env, Frame());
+  const ConnectReport r = a.connect({dh, "hook1"}, {env, "rod"});
+  EXPECT_FALSE(r.accepted);
+  EXPECT_EQ(a.part_count(), 1);
+  EXPECT_TRUE(a.connections().empty());
+  EXPECT_EQ(a.parameter_count(), 0);
+  EXPECT_EQ(a.available_critical_dim(PartId{0}, 0), std::vector<double>{2920});
+}
+
+TEST(Assembly, ConnectDecidesTreeOrCycle) {
+  auto rods = make_part("ClosetRods");
+  auto eye1 = make_part("HookEyeConnector");
+  auto eye2 = make_part("HookEyeConnector");
+  auto basket = make_part("RoundHandleBasket");
+  Assembly a;
+  a.add(rods, Frame(Vec3(0, 0, 200), Vec3(0, 0, -90)));
+  ConnectOptions flip;
+  flip.alignment = AlignmentChoice::kFlip;
+  EXPECT_FALSE(a.connect({eye1, "hole"}, {rods, "rod1"}, flip).closes_cycle);
+  EXPECT_FALSE(a.connect({eye2, "hole"}, {rods, "rod2"}).closes_cycle);
+  // Argument order does not matter: the new part is found either way.
+  EXPECT_FALSE(a.connect({basket, "hook"}, {eye1, "hook"}).closes_cycle);
+  const ConnectReport r = a.connect({eye2, "hook"}, {basket, "hook"});
+  ASSERT_TRUE(r.accepted) << r.diagnostics.format();
+  EXPECT_TRUE(r.closes_cycle);
+  ASSERT_EQ(r.cycles.size(), 1u);
+  EXPECT_EQ(r.cycles[0], "ClosetRods.rod2 – HookEyeConnector#2 – RoundHandleBasket – "
+                         "HookEyeConnector#1 – ClosetRods.rod1");
+  EXPECT_EQ(a.cycle_connections().size(), 1u);
+  // The accepted configuration really closes the cycle.
+  const auto [f1, f2] = a.connection_frames<double>(r.connection, a.values().data());
+  EXPECT_LT((f1.topRightCorner<3, 1>() - f2.topRightCorner<3, 1>()).norm(), 1e-3);
+  EXPECT_LT((f1.topLeftCorner<3, 3>() - f2.topLeftCorner<3, 3>()).norm(), 1e-4);
+  // The basket's handle now carries two connections.
+  EXPECT_EQ(a.connections_of(PartId{3}, 0).size(), 2u);
+}
+
+TEST(Assembly, EndWithRecordsThePrimitiveFrame) {
+  auto env = rod_environment(5, 500);
+  auto bottle = make_part("SoapBottle");
+  Assembly a;
+  a.add(env, Frame());
+  const Frame part_frame(Vec3(0, 0, 253), Vec3(0, 0, 180));
+  EXPECT_TRUE(a.end_with(bottle, part_frame).empty());
+  ASSERT_TRUE(a.target());
+  EXPECT_EQ(a.target()->primitive, 0);
+  EXPECT_LT((a.target()->frame.matrix() - (part_frame * bottle->primitives[0].frame).matrix()).norm(), 1e-9);
+  EXPECT_TRUE(testing::has_diagnostic(a.end_with(env, Frame()), DiagnosticCode::kTargetMissing,
+                                      "is an environment"));
+}
+
+TEST(Assembly, SingleConnectionPrimitivesHoldOneThing) {
+  auto table = std::make_shared<Part>(make_primitive_part({[] {
+    PrimitiveShape s;
+    s.width = 400;
+    s.length = 400;
+    return Primitive::make("surface", PrimitiveType::kSurface, s);
+  }()}));
+  auto clip = make_part("PlasticClip");
+  auto brush1 = make_part("Toothbrush");
+  auto brush2 = make_part("Toothbrush");
+  Assembly a;
+  a.add(table, Frame());
+  ASSERT_TRUE(a.connect({clip, "hemisphere1"}, {table, "surface"}).accepted);
+  ASSERT_TRUE(a.connect({brush1, "rod"}, {clip, "clip"}).accepted);
+  const ConnectReport r = a.connect({brush2, "rod"}, {clip, "clip"});
+  EXPECT_FALSE(r.accepted);
+  EXPECT_TRUE(testing::has_diagnostic(r.diagnostics, DiagnosticCode::kSingleConnection,
+                                      "PlasticClip.clip already holds Toothbrush#1.rod"));
+}
+
+}  // namespace
+}  // namespace fabkit::hacks

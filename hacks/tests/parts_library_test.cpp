@@ -1,0 +1,375 @@
+// PartsLibrary lookup and user part files (load_yaml): valid files load; malformed ones report
+// the right code at the right 1-based line and add nothing.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include "fabkit/hacks/parts_library.h"
+
+namespace fabkit::hacks {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh directory per test for the YAML and mesh files.
+class PartFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    static std::atomic<int> counter{0};
+    dir_ = fs::temp_directory_path() /
+           ("fabkit_parts_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  fs::path write(const std::string& name, const std::string& text) const {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+
+  // A 10 mm cube from (0,0,0) to (10,10,10), quads wound counter-clockwise seen from outside.
+  fs::path write_cube(const std::string& name) const {
+    return write(name,
+                 "# unit test cube\n"
+                 "v 0 0 0\nv 10 0 0\nv 10 10 0\nv 0 10 0\n"
+                 "v 0 0 10\nv 10 0 10\nv 10 10 10\nv 0 10 10\n"
+                 "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n");
+  }
+
+  // Loads `text` into a copy of the built-in library and expects exactly the failure
+  // `code` at `line`, with nothing added.
+  void expect_error(const std::string& text, DiagnosticCode code, int line) {
+    PartsLibrary lib = PartsLibrary::builtin();
+    const std::size_t before = lib.generators().size();
+    const fs::path file = write("bad.yaml", text);
+    Diagnostics diags;
+    EXPECT_FALSE(lib.load_yaml(file, diags));
+    EXPECT_TRUE(diags.has_errors());
+    ASSERT_FALSE(diags.empty());
+    const Diagnostic& d = diags.items().front();
+    EXPECT_EQ(to_string(d.code), to_string(code)) << diags.format();
+    EXPECT_EQ(d.where.line, line) << diags.format();
+    EXPECT_EQ(d.where.file, file.string());
+    EXPECT_EQ(lib.generators().size(), before);
+    EXPECT_EQ(lib.find("GoodPart"), nullptr) << "a valid part of a bad file was added";
+  }
+
+  fs::path dir_;
+};
+
+// A valid part placed before the broken one in several cases: it must not be added either.
+const std::string kGood =
+    "  - name: GoodPart\n"
+    "    primitives:\n"
+    "      - {name: peg, type: rod, radius: 2, length: 30}\n";
+
+TEST_F(PartFiles, ValidFileLoadsAndMakesParts) {
+  write_cube("cube.obj");
+  const fs::path file = write("parts.yaml",
+                              "parts:\n"
+                              "  - name: TestBracket\n"
+                              "    description: a test bracket\n"
+                              "    mesh: cube.obj\n"
+                              "    category: hack\n"
+                              "    primitives:\n"
+                              "      - name: hook\n"
+                              "        type: hook\n"
+                              "        arc_radius: 12\n"
+                              "        arc_angle: 180\n"
+                              "        thickness: 2\n"
+                              "        frame: {pos: [0, 0, -20], rot: [90, 0, 0]}\n"
+                              "        flex: true\n"
+                              "        theta_range: [0, 200]\n"
+                              "      - name: back\n"
+                              "        type: surface\n"
+                              "        length: 20\n"
+                              "        width: 20\n"
+                              "  - name: TestPeg\n"
+                              "    mass: 55.5\n"
+                              "    center_of_mass: [1, 2, 3]\n"
+                              "    primitives:\n"
+                              "      - name: hole1\n"
+                              "        type: hole\n"
+                              "        arc_radius: 5\n"
+                              "        thickness: 1\n"
+                              "      - name: peg\n"
+                              "        type: rod\n"
+                              "        radius: 3\n"
+                              "        length: 40\n"
+                              "        is_open: false\n");
+  PartsLibrary lib = PartsLibrary::builtin();
+  const std::size_t before = lib.generators().size();
+  Diagnostics diags;
+  ASSERT_TRUE(lib.load_yaml(file, diags)) << diags.format();
+  EXPECT_TRUE(diags.empty()) << diags.format();
+  EXPECT_EQ(lib.generators().size(), before + 2);
+
+  auto bracket = lib.make("TestBracket", {}, diags);
+  ASSERT_NE(bracket, nullptr) << diags.format();
+  EXPECT_EQ(bracket->type_name, "TestBracket");
+  EXPECT_EQ(bracket->description, "a test bracket");
+  EXPECT_EQ(bracket->category, PartCategory::kHack);
+  EXPECT_NEAR(bracket->mass, 1000, 1e-9);  // default: mesh volume at density 1
+  EXPECT_NEAR((bracket->center_of_mass - Vec3(5, 5, 5)).norm(), 0, 1e-9);
+  EXPECT_EQ(bracket->mesh.faces.size(), 12u);
+  ASSERT_EQ(bracket->primitives.size(), 2u);
+  const Primitive& h = bracket->primitives[0];
+  EXPECT_EQ(h.type, PrimitiveType::kHook);
+  EXPECT_DOUBLE_EQ(h.shape.arc_radius, 12);
+  EXPECT_DOUBLE_EQ(h.shape.arc_angle, 180);
+  EXPECT_DOUBLE_EQ(h.shape.thickness, 2);
+  EXPECT_TRUE(h.flex);
+  EXPECT_TRUE(h.is_open);
+  ASSERT_TRUE(h.theta_range.has_value());
+  EXPECT_DOUBLE_EQ((*h.theta_range)[1], 200);
+  EXPECT_TRUE(h.frame.pos.isApprox(Vec3(0, 0, -20)));
+  EXPECT_TRUE(h.frame.rot.isApprox(Vec3(90, 0, 0)));
+  const Primitive& s = bracket->primitives[1];
+  EXPECT_EQ(s.type, PrimitiveType::kSurface);
+  EXPECT_FALSE(s.is_open);  // the type's default
+
+  auto peg = lib.make("testpeg", {}, diags);  // case-insensitive lookup
+  ASSERT_NE(peg, nullptr) << diags.format();
+  EXPECT_DOUBLE_EQ(peg->mass, 55.5);
+  EXPECT_TRUE(peg->center_of_mass.isApprox(Vec3(1, 2, 3)));
+  EXPECT_FALSE(peg->mesh.empty());  // drawn from the primitives
+  EXPECT_EQ(peg->find_primitive("ring1"), 0);
+  EXPECT_EQ(peg->primitives[0].type, PrimitiveType::kRing);
+  EXPECT_FALSE(peg->primitives[1].is_open);
+  EXPECT_FALSE(peg->primitives[1].open_for_connect);  // follows is_open, as in the reference
+  EXPECT_FALSE(diags.has_errors()) << diags.format();
+
+  // A part without mesh or mass weighs its primitives' volume.
+  const fs::path file2 = write("more.yaml", "parts:\n" + kGood);
+  ASSERT_TRUE(lib.load_yaml(file2, diags)) << diags.format();
+  auto good = lib.make("GoodPart", {}, diags);
+  ASSERT_NE(good, nullptr);
+  EXPECT_NEAR(good->mass, good->mesh.volume(), 1e-9);
+  EXPECT_GT(good->mass, 0.9 * 3.14159 * 4 * 30);
+}
+
+TEST_F(PartFiles, YamlSyntaxError) {
+  expect_error("parts:\n"
+               "  - name: Broken\n"
+               "    description: a: b\n",
+               DiagnosticCode::kMalformedInput,
+               3);
+}
+
+TEST_F(PartFiles, MissingPrimitives) {
+  expect_error("parts:\n" + kGood +
+                   "  - name: NoPrims\n"
+                   "    description: nothing to connect\n",
+               DiagnosticCode::kMalformedInput,
+               5);
+}
+
+TEST_F(PartFiles, UnknownPrimitiveType) {
+  expect_error("parts:\n"
+               "  - name: BadType\n"
+               "    primitives:\n"
+               "      - name: p\n"
+               "        type: spring\n"
+               "        radius: 3\n",
+               DiagnosticCode::kUnknownName,
+               5);
+}
+
+TEST_F(PartFiles, NegativeRadius) {
+  expect_error("parts:\n" + kGood +
+                   "  - name: NegRadius\n"
+                   "    primitives:\n"
+                   "      - name: peg\n"
+                   "        type: rod\n"
+                   "        length: 10\n"
+                   "        radius: -3\n",
+               DiagnosticCode::kInvalidValue,
+               10);
+}
+
+TEST_F(PartFiles, NotANumber) {
+  expect_error("parts:\n"
+               "  - name: NanHook\n"
+               "    primitives:\n"
+               "      - name: hook\n"
+               "        type: hook\n"
+               "        arc_radius: 10\n"
+               "        arc_angle: .nan\n"
+               "        thickness: 1\n",
+               DiagnosticCode::kInvalidValue,
+               7);
+}
+
+TEST_F(PartFiles, DuplicatePrimitiveName) {
+  expect_error("parts:\n"
+               "  - name: Dup\n"
+               "    primitives:\n"
+               "      - name: peg\n"
+               "        type: rod\n"
+               "        radius: 1\n"
+               "        length: 5\n"
+               "      - name: peg\n"
+               "        type: rod\n"
+               "        radius: 1\n"
+               "        length: 5\n",
+               DiagnosticCode::kDuplicateName,
+               8);
+}
+
+TEST_F(PartFiles, MissingMeshFile) {
+  expect_error("parts:\n" + kGood +
+                   "  - name: NoMesh\n"
+                   "    mesh: missing.stl\n"
+                   "    primitives:\n"
+                   "      - {name: peg, type: rod, radius: 1, length: 5}\n",
+               DiagnosticCode::kUnreadableFile,
+               6);
+}
+
+TEST_F(PartFiles, UnknownKey) {
+  expect_error("parts:\n" + kGood +
+                   "  - name: Extra\n"
+                   "    colour: red\n"
+                   "    primitives:\n"
+                   "      - {name: peg, type: rod, radius: 1, length: 5}\n",
+               DiagnosticCode::kUnknownName,
+               6);
+}
+
+TEST_F(PartFiles, FieldOfAnotherPrimitiveType) {
+  expect_error("parts:\n"
+               "  - name: RodWithArc\n"
+               "    primitives:\n"
+               "      - name: peg\n"
+               "        type: rod\n"
+               "        radius: 1\n"
+               "        length: 5\n"
+               "        arc_angle: 90\n",
+               DiagnosticCode::kUnknownName,
+               8);
+}
+
+TEST_F(PartFiles, MissingShapeField) {
+  expect_error("parts:\n"
+               "  - name: Short\n"
+               "    primitives:\n"
+               "      - name: peg\n"
+               "        type: rod\n"
+               "        radius: 1\n",
+               DiagnosticCode::kMalformedInput,
+               4);
+}
+
+TEST_F(PartFiles, WrongNodeType) {
+  expect_error("parts:\n"
+               "  - name: Listy\n"
+               "    primitives: {name: peg}\n",
+               DiagnosticCode::kMalformedInput,
+               3);
+}
+
+TEST_F(PartFiles, NameClashesWithBuiltin) {
+  expect_error("parts:\n"
+               "  - name: DoubleHook\n"
+               "    primitives:\n"
+               "      - {name: peg, type: rod, radius: 1, length: 5}\n",
+               DiagnosticCode::kDuplicateName,
+               2);
+}
+
+TEST_F(PartFiles, WireThickerThanItsArc) {
+  // Primitive::validate's relational checks report at the primitive's line.
+  expect_error("parts:\n"
+               "  - name: FatHook\n"
+               "    primitives:\n"
+               "      - name: hook\n"
+               "        type: hook\n"
+               "        arc_radius: 2\n"
+               "        arc_angle: 180\n"
+               "        thickness: 3\n",
+               DiagnosticCode::kInvalidValue,
+               4);
+}
+
+TEST_F(PartFiles, UnreadableFile) {
+  PartsLibrary lib;
+  Diagnostics diags;
+  EXPECT_FALSE(lib.load_yaml(dir_ / "does_not_exist.yaml", diags));
+  ASSERT_EQ(diags.size(), 1u);
+  EXPECT_EQ(diags.items()[0].code, DiagnosticCode::kUnreadableFile);
+  EXPECT_TRUE(lib.generators().empty());
+}
+
+TEST(PartsLibrary, ExampleWallBracketLoads) {
+  const fs::path file = fs::path(FABKIT_SOURCE_DIR) / "examples/parts/wall_bracket.yaml";
+  PartsLibrary lib = PartsLibrary::builtin();
+  Diagnostics diags;
+  ASSERT_TRUE(lib.load_yaml(file, diags)) << diags.format();
+  EXPECT_TRUE(diags.empty()) << diags.format();
+  auto part = lib.make("WallBracket", {}, diags);
+  ASSERT_NE(part, nullptr) << diags.format();
+  EXPECT_GE(part->primitives.size(), 2u);
+  EXPECT_GT(part->mass, 0);
+  EXPECT_GT(part->mesh.volume(), 0);
+  const Vec3 lo = part->mesh.bounds_min();
+  const Vec3 hi = part->mesh.bounds_max();
+  for (const Primitive& p : part->primitives) {
+    EXPECT_TRUE((p.frame.pos.array() >= lo.array() - 1).all() &&
+                (p.frame.pos.array() <= hi.array() + 1).all())
+        << p.name;
+  }
+}
+
+TEST(PartsLibrary, FindAddAndSuggest) {
+  PartsLibrary lib;
+  PartGenerator g;
+  g.name = "Widget";
+  g.aliases = {"Gadget"};
+  g.build = [](const ParamValues&) {
+    Part p;
+    PrimitiveShape s;
+    s.radius = 1;
+    s.length = 10;
+    p.primitives.push_back(Primitive::make("rod", PrimitiveType::kRod, s));
+    return p;
+  };
+  lib.add(g);
+  ASSERT_NE(lib.find("Widget"), nullptr);
+  ASSERT_NE(lib.find("Gadget"), nullptr);
+  ASSERT_NE(lib.find("wIDGET"), nullptr);
+  ASSERT_NE(lib.find("gadget"), nullptr);
+  EXPECT_EQ(lib.find("Gizmo"), nullptr);
+  EXPECT_EQ(lib.suggest("Widgte"), "Widget");
+  EXPECT_EQ(lib.suggest("Gadgt"), "Gadget");
+  EXPECT_EQ(lib.suggest("Zebra"), "");
+  // Same name replaces.
+  g.description = "second";
+  lib.add(g);
+  EXPECT_EQ(lib.generators().size(), 1u);
+  EXPECT_EQ(lib.find("Widget")->description, "second");
+
+  Diagnostics diags;
+  auto part = lib.make("gadget", {}, diags);
+  ASSERT_NE(part, nullptr);
+  EXPECT_EQ(part->type_name, "Widget");
+  EXPECT_TRUE(part->params.empty());
+}
+
+TEST(PartsLibrary, BuiltinIsBuiltOnce) {
+  EXPECT_EQ(&PartsLibrary::builtin(), &PartsLibrary::builtin());
+  EXPECT_EQ(PartsLibrary::builtin().suggest("doublehok"), "DoubleHook");
+  EXPECT_EQ(PartsLibrary::builtin().suggest("Turnbukle"), "Turnbuckle");
+}
+
+}  // namespace
+}  // namespace fabkit::hacks

@@ -1,0 +1,204 @@
+// Connect verification (issue item 7): one invalid design per failure kind, each asserting
+// the diagnostic, its numbers and its line; plus the checks that valid designs pass.
+#include <gtest/gtest.h>
+
+#include "../src/constraints.h"
+#include "test_support.h"
+
+namespace fabkit::hacks {
+namespace {
+
+using testing::has_diagnostic;
+using testing::load_text;
+using testing::make_part;
+using testing::rod_environment;
+
+// (a) the pair is allowed (paper Table 1).
+TEST(Verify, PairNotAllowed) {
+  const Design d = load_text(R"(environment:
+  - {name: door, primitives: {rod: {type: rod, radius: 5, length: 500}}}
+parts:
+  - {name: bottle, part: SoapBottle}
+connections:
+  - connect: [bottle.surface, door.rod]
+)");
+  EXPECT_TRUE(d.readable);
+  EXPECT_FALSE(d.feasible());
+  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kPairNotAllowed,
+                             "bottle.surface (surface) cannot connect to door.rod (rod): a surface "
+                             "connects only to a surface or hemisphere",
+                             6));
+}
+
+// (b) not both closed.
+TEST(Verify, BothClosed) {
+  const Design d = load_text(R"(environment:
+  - {name: door, primitives: {rod: {type: rod, radius: 5, length: 500}}}
+parts:
+  - {name: eye, part: HookEyeLeft}
+  - {name: basket, part: Basket}
+  - {name: mug, part: Mug}
+connections:
+  - connect: [eye.ring, door.rod]
+  - connect: [basket.rod1, eye.hook]
+  - connect: [mug.hook, basket.rod2]
+)");
+  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kBothClosed,
+                             "basket.rod2 and mug.hook are both closed", 10));
+  // The earlier connects were fine.
+  EXPECT_TRUE(d.steps[1].accepted);
+  EXPECT_TRUE(d.steps[2].accepted);
+}
+
+// (c) dimensions fit: the issue's own example message, through the C++ API.
+TEST(Verify, HookOpeningSmallerThanRodRadius) {
+  auto rods = make_part("LongTensionRod");
+  auto dh1 = make_part("DoubleHook");
+  auto dh2 = make_part("DoubleHook");
+  auto basket = make_part("Basket");
+  Assembly a;
+  a.add(rods, Frame());
+  // A DoubleHook elsewhere makes this one "#2".
+  auto env2 = rod_environment(5, 500);
+  a.add(env2, Frame(Vec3(0, 0, 1000), Vec3::Zero()));
+  ASSERT_TRUE(a.connect({dh1, "hook1"}, {env2, "rod"}).accepted);
+  const ConnectReport r = a.connect({dh2, "hook1"}, {rods, "rod"});
+  EXPECT_FALSE(r.accepted);
+  EXPECT_TRUE(has_diagnostic(r.diagnostics, DiagnosticCode::kDimensionMismatch,
+                             "DoubleHook#2.hook1: hook opening 11.6 mm is smaller than rod radius "
+                             "12.7 mm (LongTensionRod.rod)"));
+}
+
+// (c) the available critical dimension is used up.
+TEST(Verify, NoSpaceLeftOnAShortRod) {
+  const Design d = load_text(R"(environment:
+  - {name: pin, primitives: {rod: {type: rod, radius: 2.5, length: 7}}}
+parts:
+  - {name: s1, part: DoubleHook}
+  - {name: s2, part: DoubleHook}
+connections:
+  - connect: [s1.hook1, pin.rod]
+  - connect: [s2.hook1, pin.rod]
+)");
+  EXPECT_TRUE(d.steps[1].accepted);
+  EXPECT_FALSE(d.steps[2].accepted);
+  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kNoSpaceLeft,
+                             "pin.rod: only 3.0 mm of its 7.0 mm length is still free, but "
+                             "s2.hook1 needs 4.0 mm",
+                             8));
+}
+
+// (d) multi-connection constraints are set up, and the cycle search respects them.
+TEST(Verify, MultiConnectionSpacingIsEnforced) {
+  auto env = rod_environment(2.5, 12);
+  auto dh1 = make_part("DoubleHook");
+  auto dh2 = make_part("DoubleHook");
+  auto ring = make_part("RingXS");
+  Assembly a;
+  a.add(env, Frame(Vec3::Zero(), Vec3(90, 0, 90)));
+  ASSERT_TRUE(a.connect({dh1, "hook1"}, {env, "rod"}).accepted);
+  ASSERT_TRUE(a.connect({dh2, "hook1"}, {env, "rod"}).accepted);
+  const std::vector<detail::MultiConnectionPair> pairs = detail::multi_connection_pairs(a);
+  ASSERT_EQ(pairs.size(), 1u);
+  EXPECT_DOUBLE_EQ(pairs[0].need[0], 4.0);  // two 2 mm wire radii
+  EXPECT_DOUBLE_EQ(pairs[0].length[0], 12.0);
+  ASSERT_TRUE(a.connect({ring, "ring"}, {dh1, "hook2"}).accepted);
+  const ConnectReport r = a.connect({ring, "ring"}, {dh2, "hook2"});
+  ASSERT_TRUE(r.accepted) << r.diagnostics.format();
+  // |t1 - t2| · 12 mm ≥ 4 mm at the accepted configuration.
+  EXPECT_GE(detail::multi_connection_value<double>(pairs[0], a.values().data()), -1e-3);
+}
+
+// (e) polygon-inequality quick reject, with the numbers.
+TEST(Verify, CycleTooLongIsRejectedQuickly) {
+  const Design d = load_text(R"(environment:
+  - name: rods
+    primitives:
+      rod1: {type: rod, radius: 6.35, length: 170, frame: {pos: [0, -500, 0], rot: [90, 0, 180]}}
+      rod2: {type: rod, radius: 6.35, length: 170, frame: {pos: [0, 500, 0], rot: [90, 0, 180]}}
+    frame: {pos: [0, 0, 200], rot: [0, 0, -90]}
+parts:
+  - {name: eye1, part: HookEyeConnector}
+  - {name: eye2, part: HookEyeConnector}
+  - {name: basket, part: RoundHandleBasket}
+connections:
+  - {connect: [eye1.hole, rods.rod1], alignment: flip}
+  - connect: [eye2.hole, rods.rod2]
+  - connect: [eye1.hook, basket.hook]
+  - connect: [eye2.hook, basket.hook]
+)");
+  ASSERT_TRUE(d.readable) << d.diagnostics.format();
+  EXPECT_FALSE(d.feasible());
+  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kCycleTooLong,
+                             "cannot close cycle rods.rod2 – eye2 – basket – eye1 – rods.rod1: ",
+                             16));
+  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kCycleTooLong,
+                             "mm between rods.rod2 and rods.rod1 exceeds the"));
+  // The rods' inner ends are 830 mm apart; nothing the parts span comes close.
+  const std::string msg = d.diagnostics.items().front().message;
+  EXPECT_NE(msg.find("830 mm between"), std::string::npos) << msg;
+}
+
+// (e) the closure search: the distances allow it, the geometry does not.
+TEST(Verify, CycleThatCannotCloseReportsTheBestGap) {
+  // A DoubleHook hung from one wall hook must also reach a second wall hook 60 mm away,
+  // facing the wrong way round: the polygon check passes, the cycle cannot close.
+  const Design d = load_text(R"(environment:
+  - name: wall
+    primitives:
+      hook1: {type: hook, arc_radius: 12.5, arc_angle: 180, thickness: 1.25, frame: {pos: [0, 0, 0], rot: [90, 0, 0]}}
+      hook2: {type: hook, arc_radius: 12.5, arc_angle: 180, thickness: 1.25, frame: {pos: [0, 40, 0], rot: [-90, 0, 0]}}
+parts:
+  - {name: s, part: DoubleHook}
+connections:
+  - connect: [s.hook1, wall.hook1]
+  - connect: [s.hook2, wall.hook2]
+)");
+  ASSERT_TRUE(d.readable) << d.diagnostics.format();
+  EXPECT_FALSE(d.feasible());
+  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kCycleNotClosable,
+                             "cannot close cycle wall.hook2 – s – wall.hook1: the best of 16 starts "
+                             "leaves a gap of",
+                             10))
+      << d.diagnostics.format();
+  EXPECT_EQ(d.steps.back().report.starts_used, 16);
+  // The front end gets the best configuration found, one frame per part.
+  EXPECT_EQ(d.steps.back().report.best_part_frames.size(), 2u);
+}
+
+TEST(Verify, FeasibleCyclesCloseToMicrometres) {
+  for (const char* name : {"basket_between_rods", "bird_feeder", "toothbrush_holder",
+                           "soap_bottle_holder", "charger_holder", "paper_towel_holder",
+                           "diaper_caddy", "reading_nook"}) {
+    SCOPED_TRACE(name);
+    const Design d = testing::load_example(name);
+    ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+    const Assembly& a = d.assembly;
+    ASSERT_FALSE(a.cycle_connections().empty());
+    for (ConnectionId c : a.cycle_connections()) {
+      const auto [f1, f2] = a.connection_frames<double>(c, a.values().data());
+      EXPECT_LT((f1.topRightCorner<3, 1>() - f2.topRightCorner<3, 1>()).norm(), 1e-3);
+    }
+    // Every connector parameter stays inside its bounds.
+    for (int i = 0; i < a.parameter_count(); ++i) {
+      const ParamSpec& s = a.parameters()[static_cast<std::size_t>(i)].spec;
+      const double v = a.values()[static_cast<std::size_t>(i)];
+      if (s.tag == ParamTag::kUnbounded) {
+        EXPECT_GE(v, 0);
+        EXPECT_LT(v, 360);
+      } else {
+        EXPECT_GE(v, s.lo - 1e-9) << s.name;
+        EXPECT_LE(v, s.hi + 1e-9) << s.name;
+      }
+    }
+  }
+}
+
+TEST(Verify, SameInputSameAnswer) {
+  const Design a = testing::load_example("bird_feeder");
+  const Design b = testing::load_example("bird_feeder");
+  EXPECT_EQ(a.assembly.values(), b.assembly.values());
+}
+
+}  // namespace
+}  // namespace fabkit::hacks
