@@ -323,9 +323,6 @@ ConnectReport Assembly::connect(const PrimitiveRef& a, const PrimitiveRef& b,
     large[0].hi = 1 - mw;
     large[1].lo = ml;
     large[1].hi = 1 - ml;
-  } else if (!closes_cycle && k1 == ConnectorKind::kHookFlex && k2 == ConnectorKind::kHookFlex) {
-    // Two flexible hooks: one contact point suffices; the other would be redundant.
-    pin(params1, false);
   } else if (!closes_cycle && ((k1 == ConnectorKind::kTube && k2 == ConnectorKind::kTubeCenterline) ||
                                (k1 == ConnectorKind::kTubeCenterline && k2 == ConnectorKind::kTube) ||
                                (k1 == ConnectorKind::kRod && k2 == ConnectorKind::kTubeCenterline) ||
@@ -567,10 +564,13 @@ std::vector<Mat4> Assembly::part_frames(const std::vector<double>& x) const {
       continue;
     }
     const Connection& c = connections_[static_cast<std::size_t>(n.parent.value)];
-    const Mat4& parent = out[static_cast<std::size_t>(c.first.part.value)];
+    const Rigid<double> parent =
+        Rigid<double>::from_matrix(out[static_cast<std::size_t>(c.first.part.value)]);
     const Primitive& child = n.part->primitives[static_cast<std::size_t>(c.second.primitive)];
-    out.push_back(connector_world<double>(c.first, parent, x.data()) * c.offset *
-                  rigid_inverse<double>(connector_frame<double>(child, x.data() + c.second.offset)));
+    out.push_back((connector_world<double>(c.first, parent, x.data()) *
+                   Rigid<double>::from_matrix(c.offset) *
+                   connector_transform<double>(child, x.data() + c.second.offset).inverse())
+                      .matrix());
   }
   return out;
 }

@@ -33,12 +33,8 @@ Primitive rod(std::string name, double radius, double length, Vec3 pos, Vec3 rot
   return make_prim(std::move(name), PT::kRod, s, pos, rot);
 }
 
-Primitive hook(std::string name,
-               double arc_radius,
-               double arc_angle,
-               double thickness,
-               Vec3 pos,
-               Vec3 rot) {
+Primitive hook(
+    std::string name, double arc_radius, double arc_angle, double thickness, Vec3 pos, Vec3 rot) {
   PrimitiveShape s;
   s.arc_radius = arc_radius;
   s.arc_angle = arc_angle;
@@ -53,12 +49,8 @@ Primitive ring(std::string name, double arc_radius, double thickness, Vec3 pos, 
   return make_prim(std::move(name), PT::kRing, s, pos, rot);
 }
 
-Primitive tube(std::string name,
-               double length,
-               double thickness,
-               double inner_radius,
-               Vec3 pos,
-               Vec3 rot) {
+Primitive tube(
+    std::string name, double length, double thickness, double inner_radius, Vec3 pos, Vec3 rot) {
   PrimitiveShape s;
   s.length = length;
   s.thickness = thickness;
@@ -154,8 +146,10 @@ TriangleMesh open_box(const Vec3& lo, const Vec3& hi, double wall, double floor)
   const double z0 = lo.z() + floor;
   m.append(box_between(Vec3(lo.x(), lo.y(), z0), Vec3(lo.x() + wall, hi.y(), hi.z())));
   m.append(box_between(Vec3(hi.x() - wall, lo.y(), z0), Vec3(hi.x(), hi.y(), hi.z())));
-  m.append(box_between(Vec3(lo.x() + wall, lo.y(), z0), Vec3(hi.x() - wall, lo.y() + wall, hi.z())));
-  m.append(box_between(Vec3(lo.x() + wall, hi.y() - wall, z0), Vec3(hi.x() - wall, hi.y(), hi.z())));
+  m.append(
+      box_between(Vec3(lo.x() + wall, lo.y(), z0), Vec3(hi.x() - wall, lo.y() + wall, hi.z())));
+  m.append(
+      box_between(Vec3(lo.x() + wall, hi.y() - wall, z0), Vec3(hi.x() - wall, hi.y(), hi.z())));
   return m;
 }
 
@@ -201,10 +195,10 @@ Part assemble(std::vector<Primitive> prims, TriangleMesh body, double mass) {
 TriangleMesh car_seat(double cx) {
   constexpr double y = 556.9;
   TriangleMesh m;
-  m.append(box_between({cx - 260, y - 60, 320}, {cx + 260, y + 60, 744.5}));   // backrest
-  m.append(box_between({cx - 250, y - 560, 250}, {cx + 250, y - 60, 400}));     // cushion
-  m.append(box_between({cx - 130, y - 45, 781.5}, {cx + 130, y + 45, 960}));    // headrest
-  m.append(box_between({cx - 200, y - 500, 0}, {cx + 200, y - 100, 250}));      // pedestal
+  m.append(box_between({cx - 260, y - 60, 320}, {cx + 260, y + 60, 744.5}));  // backrest
+  m.append(box_between({cx - 250, y - 560, 250}, {cx + 250, y - 60, 400}));   // cushion
+  m.append(box_between({cx - 130, y - 45, 781.5}, {cx + 130, y + 45, 960}));  // headrest
+  m.append(box_between({cx - 200, y - 500, 0}, {cx + 200, y - 100, 250}));    // pedestal
   return m;
 }
 
@@ -212,7 +206,7 @@ TriangleMesh car_seat(double cx) {
 // down to the hook's near arm at y = -3.5, z = -61), moved by `offset`.
 TriangleMesh wall_hook_body(const Vec3& offset) {
   TriangleMesh m;
-  m.append(box_between(Vec3(-34, -3, -34) + offset, Vec3(34, 0, 34) + offset));     // plate
+  m.append(box_between(Vec3(-34, -3, -34) + offset, Vec3(34, 0, 34) + offset));        // plate
   m.append(box_between(Vec3(-4, -4.75, -61) + offset, Vec3(4, -2.25, -30) + offset));  // strip
   return m;
 }
@@ -375,10 +369,11 @@ Part ceiling_hook() {
 
 Part clip_light() {
   auto c = clip("clip", 1, 30, 30, 13.5, 13.5, {23.6, 0, 14.05}, {0, 90, 0});
-  // Clip-on reading light: hinge block at the jaw's back end, a gooseneck and the lamp head.
-  TriangleMesh body = box_between({0, -15, 0}, {8.6, 15, 28});
-  body.append(cylinder_between({4, 0, 28}, {60, 0, 160}, 4, 12));
-  body.append(cylinder_between({75, 0, 155}, {75, 0, 195}, 30, 24));
+  // Clip-on reading light: battery housing behind the jaw's hinge end (x < 8.6), a gooseneck
+  // and a small lamp head; the housing and head carry most of the mass.
+  TriangleMesh body = box_between({-20, -15, 0}, {8.6, 15, 28});
+  body.append(cylinder_between({-6, 0, 28}, {55, 0, 160}, 3.5, 12));
+  body.append(cylinder_between({68, 0, 160}, {68, 0, 185}, 22, 24));
   return assemble({c}, body, 65453.4);
 }
 
@@ -409,8 +404,8 @@ Part curtain_ring() {
   // Split ring plus the small eyelet opposite the split that the curtain hangs from.
   const Vec3 radial(std::cos(4.5 * kDegToRad), std::sin(4.5 * kDegToRad), 0);
   const Vec3 c = h.frame.pos + (20.8 + 2.2 + 4.0) * radial;
-  TriangleMesh body =
-      shapes::torus_arc(4, 1, 360, 16, 8).transformed(translation(c.x(), c.y(), c.z()) * rot_z(94.5));
+  TriangleMesh body = shapes::torus_arc(4, 1, 360, 16, 8)
+                          .transformed(translation(c.x(), c.y(), c.z()) * rot_z(94.5));
   return assemble({h}, body, 3460.9);
 }
 
@@ -536,8 +531,7 @@ Part open_handle_basket() {
 
 Part paper_towel_roll() {
   // The roll itself is the tube.
-  return assemble(
-      {ctl(tube("tube", 279.4, 29, 21, {0, 0, -140}, {0, 0, 0}))}, {}, 1817000.1);
+  return assemble({ctl(tube("tube", 279.4, 29, 21, {0, 0, -140}, {0, 0, 0}))}, {}, 1817000.1);
 }
 
 // Reference §10.2: hook_y = 6 + 10 + 27.5 + extended_length / 2 (bolt, hook, half body, and
@@ -764,8 +758,8 @@ Part param_hanger(const ParamValues& v) {
 void add_fixed(PartsLibrary& lib,
                std::string name,
                PC category,
-               std::string description,
                Part (*build)(),
+               std::string description,
                std::vector<std::string> aliases = {}) {
   auto part = std::make_shared<Part>(build());
   part->type_name = name;
@@ -784,62 +778,115 @@ void add_fixed(PartsLibrary& lib,
 
 void register_builtin_parts(PartsLibrary& lib) {
   // clang-format off
-  add_fixed(lib, "BackSeats", PC::kEnvironment, "two car back-seat headrest posts (env)", back_seats);
-  add_fixed(lib, "Basket", PC::kHack, "wire basket with two side rods and a floor", basket);
-  add_fixed(lib, "BasketBase", PC::kOther, "basket body with two small eyelets", basket_base);
-  add_fixed(lib, "BasketHandle", PC::kOther, "basket handle bar with two pivot pins", basket_handle);
-  add_fixed(lib, "BinderClip", PC::kHack, "binder clip (clip + two wire loops)", binder_clip);
-  add_fixed(lib, "BirdFeeder", PC::kEnvironment, "bird feeder with top hanging ring", bird_feeder);
-  add_fixed(lib, "BirdFeederEnv", PC::kEnvironment, "two wall hooks 628 mm apart (env)", bird_feeder_env);
-  add_fixed(lib, "Board", PC::kOther, "board with two faces", board);
-  add_fixed(lib, "BroomRod", PC::kHack, "hollow broom handle (tube)", broom_rod);
-  add_fixed(lib, "Cable", PC::kEnvironment, "charger cable: thin cord (centerline rod) + plug body rod", cable);
-  add_fixed(lib, "CarSeat", PC::kEnvironment, "car seat headrest posts (env)", car_seat_part);
-  add_fixed(lib, "CeilingHook", PC::kOther, "ceiling swag hook (env)", ceiling_hook);
-  add_fixed(lib, "ClipLight", PC::kEnvironment, "clip-on reading light (clip)", clip_light);
-  add_fixed(lib, "ClosetRods", PC::kEnvironment, "two closet/towel rods 350 mm apart (env)", closet_rods,
-            {"TowelRackRods"});  // paper Fig. 8
-  add_fixed(lib, "ClothesClip", PC::kHack, "clothes peg with a small wire ring", clothes_clip);
-  add_fixed(lib, "CurtainRing", PC::kHack, "curtain ring (split hook)", curtain_ring);
-  add_fixed(lib, "DiaperCaddy", PC::kEnvironment, "diaper caddy with two hooks", diaper_caddy);
-  add_fixed(lib, "DoubleHook", PC::kHack, "small S-hook (two 270° hooks)", double_hook);
-  add_fixed(lib, "DoubleHookMedium", PC::kHack, "medium S-hook", double_hook_medium);
-  add_fixed(lib, "FabricHanger", PC::kHack, "fabric clothes hanger (top hook, bar, two shoulder notches)", fabric_hanger);
-  add_fixed(lib, "FlagRod", PC::kHack, "flag rod (centerline rod)", flag_rod);
-  add_fixed(lib, "HandleBasket", PC::kEnvironment, "basket with a handle bar and floor", handle_basket);
-  add_fixed(lib, "Hanger", PC::kHack, "wire clothes hanger (top hook, bottom bar, two shoulder notches)", hanger);
-  add_fixed(lib, "HookEyeConnector", PC::kOther, "eye hook (same as HookEyeRight; paper Fig. 8 name)", hook_eye_right);
-  add_fixed(lib, "HookEyeLeft", PC::kHack, "eye hook (screw eye + hook), hook rotated 120°", hook_eye_left);
-  add_fixed(lib, "HookEyeLeftS", PC::kOther, "eye hook variant used in the user study (flexible eye, rigid hook)", hook_eye_left_s,
+  add_fixed(lib, "BackSeats", PC::kEnvironment, back_seats,
+            "two car back-seat headrest posts (env)");
+  add_fixed(lib, "Basket", PC::kHack, basket,
+            "wire basket with two side rods and a floor");
+  add_fixed(lib, "BasketBase", PC::kOther, basket_base,
+            "basket body with two small eyelets");
+  add_fixed(lib, "BasketHandle", PC::kOther, basket_handle,
+            "basket handle bar with two pivot pins");
+  add_fixed(lib, "BinderClip", PC::kHack, binder_clip,
+            "binder clip (clip + two wire loops)");
+  add_fixed(lib, "BirdFeeder", PC::kEnvironment, bird_feeder,
+            "bird feeder with top hanging ring");
+  add_fixed(lib, "BirdFeederEnv", PC::kEnvironment, bird_feeder_env,
+            "two wall hooks 628 mm apart (env)");
+  add_fixed(lib, "Board", PC::kOther, board,
+            "board with two faces");
+  add_fixed(lib, "BroomRod", PC::kHack, broom_rod,
+            "hollow broom handle (tube)");
+  add_fixed(lib, "Cable", PC::kEnvironment, cable,
+            "charger cable: thin cord (centerline rod) + plug body rod");
+  add_fixed(lib, "CarSeat", PC::kEnvironment, car_seat_part,
+            "car seat headrest posts (env)");
+  add_fixed(lib, "CeilingHook", PC::kOther, ceiling_hook,
+            "ceiling swag hook (env)");
+  add_fixed(lib, "ClipLight", PC::kEnvironment, clip_light,
+            "clip-on reading light (clip)");
+  add_fixed(lib, "ClosetRods", PC::kEnvironment, closet_rods,
+            "two closet/towel rods 350 mm apart (env)", {"TowelRackRods"});  // paper Fig. 8
+  add_fixed(lib, "ClothesClip", PC::kHack, clothes_clip,
+            "clothes peg with a small wire ring");
+  add_fixed(lib, "CurtainRing", PC::kHack, curtain_ring,
+            "curtain ring (split hook)");
+  add_fixed(lib, "DiaperCaddy", PC::kEnvironment, diaper_caddy,
+            "diaper caddy with two hooks");
+  add_fixed(lib, "DoubleHook", PC::kHack, double_hook,
+            "small S-hook (two 270° hooks)");
+  add_fixed(lib, "DoubleHookMedium", PC::kHack, double_hook_medium,
+            "medium S-hook");
+  add_fixed(lib, "FabricHanger", PC::kHack, fabric_hanger,
+            "fabric clothes hanger (top hook, bar, two shoulder notches)");
+  add_fixed(lib, "FlagRod", PC::kHack, flag_rod,
+            "flag rod (centerline rod)");
+  add_fixed(lib, "HandleBasket", PC::kEnvironment, handle_basket,
+            "basket with a handle bar and floor");
+  add_fixed(lib, "Hanger", PC::kHack, hanger,
+            "wire clothes hanger (top hook, bottom bar, two shoulder notches)");
+  add_fixed(lib, "HookEyeConnector", PC::kOther, hook_eye_right,
+            "eye hook (same as HookEyeRight; paper Fig. 8 name)");
+  add_fixed(lib, "HookEyeLeft", PC::kHack, hook_eye_left,
+            "eye hook (screw eye + hook), hook rotated 120°");
+  add_fixed(lib, "HookEyeLeftS", PC::kOther, hook_eye_left_s,
+            "eye hook variant used in the user study (flexible eye, rigid hook)",
             {"HookEyeLeft5"});  // paper App. B.3
-  add_fixed(lib, "HookEyeRight", PC::kHack, "eye hook, hook rotated 90°", hook_eye_right);
-  add_fixed(lib, "HulaHoop", PC::kEnvironment, "hula hoop (target of the reading nook)", hula_hoop);
-  add_fixed(lib, "LongTensionRod", PC::kEnvironment, "2.92 m tension rod (env)", long_tension_rod);
-  add_fixed(lib, "Mug", PC::kEnvironment, "mug (handle hook + body tube)", mug);
-  add_fixed(lib, "ObstacleRingL", PC::kHack, "large obstacle-course ring", obstacle_ring_l);
-  add_fixed(lib, "ObstacleRingM", PC::kHack, "medium obstacle-course ring", obstacle_ring_m);
-  add_fixed(lib, "OpenHandleBasket", PC::kEnvironment, "basket with open handle", open_handle_basket);
-  add_fixed(lib, "PaperTowelRoll", PC::kEnvironment, "paper towel roll (centerline tube)", paper_towel_roll);
-  add_fixed(lib, "Pen", PC::kEnvironment, "pen (rod + clip edge)", pen);
-  add_fixed(lib, "Phone", PC::kEnvironment, "phone (edge)", phone);
-  add_fixed(lib, "PlasticClip", PC::kHack, "plastic clip standing on two feet (hemispheres)", plastic_clip);
-  add_fixed(lib, "ReadingRoom", PC::kEnvironment, "scanned room: ceiling-level rod + small wall pin (env)", reading_room);
-  add_fixed(lib, "RingL", PC::kHack, "metal ring L", [] { return ring_part(63.3, 13409.2); });
-  add_fixed(lib, "RingLink", PC::kHack, "toy ring link (two closed hooks)", ring_link);
-  add_fixed(lib, "RingM", PC::kHack, "metal ring M", [] { return ring_part(53.3, 11290.8); });
-  add_fixed(lib, "RingS", PC::kHack, "metal ring S", [] { return ring_part(43.3, 9172.5); });
-  add_fixed(lib, "RingXS", PC::kHack, "metal ring XS", [] { return ring_part(33.3, 7054.1); });
-  add_fixed(lib, "RoundHandleBasket", PC::kEnvironment, "basket with round handle (hook)", round_handle_basket);
-  add_fixed(lib, "ShowerCurtainRod", PC::kHack, "shower curtain rod", shower_curtain_rod);
-  add_fixed(lib, "SmallBirdFeederEnv", PC::kEnvironment, "two wall hooks 490 mm apart (env)", small_bird_feeder_env);
-  add_fixed(lib, "SoapBottle", PC::kEnvironment, "soap bottle (body rod + bottom surface)", soap_bottle);
-  add_fixed(lib, "SodaCanTab", PC::kHack, "soda can tab (two centerline rings)", soda_can_tab);
-  add_fixed(lib, "Tack", PC::kOther, "push pin", tack);
-  add_fixed(lib, "Toothbrush", PC::kEnvironment, "toothbrush (head hemisphere + centerline handle rod)", toothbrush);
-  add_fixed(lib, "TowelHangingEnv", PC::kEnvironment, "wall with two small hooks 340 mm apart (env)", towel_hanging_env);
-  add_fixed(lib, "Turnbuckle", PC::kHack, "fixed turnbuckle", turnbuckle);
-  add_fixed(lib, "TwoholeBasket", PC::kBoth, "basket with two hook holes", twohole_basket);
-  add_fixed(lib, "WallHook", PC::kHack, "adhesive wall hook", wall_hook);
+  add_fixed(lib, "HookEyeRight", PC::kHack, hook_eye_right,
+            "eye hook, hook rotated 90°");
+  add_fixed(lib, "HulaHoop", PC::kEnvironment, hula_hoop,
+            "hula hoop (target of the reading nook)");
+  add_fixed(lib, "LongTensionRod", PC::kEnvironment, long_tension_rod,
+            "2.92 m tension rod (env)");
+  add_fixed(lib, "Mug", PC::kEnvironment, mug,
+            "mug (handle hook + body tube)");
+  add_fixed(lib, "ObstacleRingL", PC::kHack, obstacle_ring_l,
+            "large obstacle-course ring");
+  add_fixed(lib, "ObstacleRingM", PC::kHack, obstacle_ring_m,
+            "medium obstacle-course ring");
+  add_fixed(lib, "OpenHandleBasket", PC::kEnvironment, open_handle_basket,
+            "basket with open handle");
+  add_fixed(lib, "PaperTowelRoll", PC::kEnvironment, paper_towel_roll,
+            "paper towel roll (centerline tube)");
+  add_fixed(lib, "Pen", PC::kEnvironment, pen,
+            "pen (rod + clip edge)");
+  add_fixed(lib, "Phone", PC::kEnvironment, phone,
+            "phone (edge)");
+  add_fixed(lib, "PlasticClip", PC::kHack, plastic_clip,
+            "plastic clip standing on two feet (hemispheres)");
+  add_fixed(lib, "ReadingRoom", PC::kEnvironment, reading_room,
+            "scanned room: ceiling-level rod + small wall pin (env)");
+  add_fixed(lib, "RingL", PC::kHack, [] { return ring_part(63.3, 13409.2); },
+            "metal ring L");
+  add_fixed(lib, "RingLink", PC::kHack, ring_link,
+            "toy ring link (two closed hooks)");
+  add_fixed(lib, "RingM", PC::kHack, [] { return ring_part(53.3, 11290.8); },
+            "metal ring M");
+  add_fixed(lib, "RingS", PC::kHack, [] { return ring_part(43.3, 9172.5); },
+            "metal ring S");
+  add_fixed(lib, "RingXS", PC::kHack, [] { return ring_part(33.3, 7054.1); },
+            "metal ring XS");
+  add_fixed(lib, "RoundHandleBasket", PC::kEnvironment, round_handle_basket,
+            "basket with round handle (hook)");
+  add_fixed(lib, "ShowerCurtainRod", PC::kHack, shower_curtain_rod,
+            "shower curtain rod");
+  add_fixed(lib, "SmallBirdFeederEnv", PC::kEnvironment, small_bird_feeder_env,
+            "two wall hooks 490 mm apart (env)");
+  add_fixed(lib, "SoapBottle", PC::kEnvironment, soap_bottle,
+            "soap bottle (body rod + bottom surface)");
+  add_fixed(lib, "SodaCanTab", PC::kHack, soda_can_tab,
+            "soda can tab (two centerline rings)");
+  add_fixed(lib, "Tack", PC::kOther, tack,
+            "push pin");
+  add_fixed(lib, "Toothbrush", PC::kEnvironment, toothbrush,
+            "toothbrush (head hemisphere + centerline handle rod)");
+  add_fixed(lib, "TowelHangingEnv", PC::kEnvironment, towel_hanging_env,
+            "wall with two small hooks 340 mm apart (env)");
+  add_fixed(lib, "Turnbuckle", PC::kHack, turnbuckle,
+            "fixed turnbuckle");
+  add_fixed(lib, "TwoholeBasket", PC::kBoth, twohole_basket,
+            "basket with two hook holes");
+  add_fixed(lib, "WallHook", PC::kHack, wall_hook,
+            "adhesive wall hook");
   // clang-format on
 
   PartGenerator tb;

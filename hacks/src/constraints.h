@@ -35,11 +35,10 @@ template <class T>
 void closure_residuals(const Assembly& a, ConnectionId id, const std::optional<Vec3>& free_axis,
                        const T* x, T* out) {
   const auto [f1, f2] = a.connection_frames<T>(id, x);
-  for (int i = 0; i < 3; ++i) out[i] = f1(i, 3) - f2(i, 3);
+  for (int i = 0; i < 3; ++i) out[i] = f1.t[i] - f2.t[i];
   if (free_axis) {
     const Vec3T<T> axis = free_axis->cast<T>();
-    const Vec3T<T> d = f1.template topLeftCorner<3, 3>() * axis -
-                       f2.template topLeftCorner<3, 3>() * axis;
+    const Vec3T<T> d = f1.R * axis - f2.R * axis;
     for (int i = 0; i < 3; ++i) out[3 + i] = d[i] * T(kRadToDeg);
     for (int i = 6; i < kClosureResiduals; ++i) out[i] = T(0);
     return;
@@ -47,7 +46,7 @@ void closure_residuals(const Assembly& a, ConnectionId id, const std::optional<V
   int k = 3;
   for (int col = 0; col < 3; ++col) {
     for (int row = 0; row < 3; ++row) {
-      out[k++] = (f1(row, col) - f2(row, col)) * T(kRotationResidualScale);
+      out[k++] = (f1.R(row, col) - f2.R(row, col)) * T(kRotationResidualScale);
     }
   }
 }

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstdio>
+#include <cstdlib>
 #include <set>
 
 #include <fmt/format.h>
@@ -105,6 +107,27 @@ struct ClosureCost {
   }
 };
 
+// Stops a start early: as soon as the cycle is closed, or when it stalls (paper §4.3.2:
+// less than 10% progress over the last ten iterations while still open).
+class StallCallback : public ceres::IterationCallback {
+ public:
+  explicit StallCallback(double tolerance) : tolerance_(tolerance) {}
+  void reset() { history_.clear(); }
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    const double c = 2 * s.cost;  // Ceres reports ½‖r‖²
+    if (c <= tolerance_) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    history_.push_back(c);
+    if (history_.size() > 10 && c > 0.9 * history_[history_.size() - 11]) {
+      return ceres::SOLVER_ABORT;
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  double tolerance_;
+  std::vector<double> history_;
+};
+
 double cost_at(const ClosureCost& functor, const std::vector<double>& z) {
   std::vector<double> r(static_cast<std::size_t>(functor.residual_count()));
   const double* blocks[] = {z.data()};
@@ -190,14 +213,14 @@ std::vector<ClosureGap> closure_gaps(const Assembly& assembly, const std::vector
     const auto [f1, f2] = assembly.connection_frames<double>(id, x.data());
     ClosureGap g;
     g.connection = id;
-    g.position_mm = (f1.topRightCorner<3, 1>() - f2.topRightCorner<3, 1>()).norm();
+    g.position_mm = (f1.t - f2.t).norm();
     const std::optional<Vec3> axis = free_rotation_axis(assembly, id);
     if (axis) {
-      const Vec3 u = f1.topLeftCorner<3, 3>() * *axis;
-      const Vec3 v = f2.topLeftCorner<3, 3>() * *axis;
+      const Vec3 u = f1.R * *axis;
+      const Vec3 v = f2.R * *axis;
       g.rotation_deg = std::atan2(u.cross(v).norm(), u.dot(v)) * kRadToDeg;
     } else {
-      const Mat3 rel = f1.topLeftCorner<3, 3>().transpose() * f2.topLeftCorner<3, 3>();
+      const Mat3 rel = f1.R.transpose() * f2.R;
       g.rotation_deg = Eigen::AngleAxisd(rel).angle() * kRadToDeg;
     }
     out.push_back(g);
@@ -237,6 +260,9 @@ ClosureResult close_cycles(const Assembly& assembly, const std::vector<double>& 
   solver_options.num_threads = 1;
   solver_options.logging_type = ceres::SILENT;
   solver_options.minimizer_progress_to_stdout = false;
+  StallCallback stall(options.tolerance);
+  solver_options.callbacks.push_back(&stall);
+  solver_options.update_state_every_iteration = true;
 
   std::vector<double> z(m);
   ceres::Problem::Options problem_options;
@@ -267,9 +293,14 @@ ClosureResult close_cycles(const Assembly& assembly, const std::vector<double>& 
       }
     }
     ceres::Solver::Summary summary;
+    stall.reset();
     ceres::Solve(solver_options, &problem, &summary);
     result.starts = start + 1;
     const double c = cost_at(*functor, z);
+    if (std::getenv("FABKIT_DEBUG_CLOSURE")) {
+      std::fprintf(stderr, "start %d: cost %.3g after %zu iterations (%s)\n", start, c,
+                   summary.iterations.size(), summary.message.c_str());
+    }
     if (c < best) {
       best = c;
       result.cost = c;

@@ -1,5 +1,6 @@
 #include "fabkit/hacks/parts_library.h"
 
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -8,8 +9,6 @@
 #include <fstream>
 #include <optional>
 #include <set>
-
-#include <fmt/format.h>
 
 #include "fabkit/core/mesh_io.h"
 
@@ -72,7 +71,8 @@ std::string closest(std::string_view name, const std::vector<std::string>& candi
 
 bool is_identifier(std::string_view s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-  return std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isalnum(c) || c == '_'; });
+  return std::all_of(
+      s.begin(), s.end(), [](unsigned char c) { return std::isalnum(c) || c == '_'; });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -100,9 +100,7 @@ constexpr std::string_view kPartKeys[] = {
 // Reads one YAML part file, collecting diagnostics with file:line locations.
 class PartFileReader {
  public:
-  PartFileReader(const std::filesystem::path& path,
-                 const PartsLibrary& library,
-                 Diagnostics& diags)
+  PartFileReader(const std::filesystem::path& path, const PartsLibrary& library, Diagnostics& diags)
       : path_(path), file_(path.string()), library_(library), diags_(diags) {}
 
   // Parsed parts, or nullopt if anything was wrong.
@@ -224,9 +222,8 @@ class PartFileReader {
   std::optional<bool> boolean(const YAML::Node& node, std::string_view what) {
     bool b = false;
     if (!node.IsScalar() || !YAML::convert<bool>::decode(node, b)) {
-      error(DiagnosticCode::kMalformedInput,
-            fmt::format("{} must be true or false", what),
-            at(node));
+      error(
+          DiagnosticCode::kMalformedInput, fmt::format("{} must be true or false", what), at(node));
       return std::nullopt;
     }
     return b;
@@ -263,8 +260,8 @@ class PartFileReader {
       error(DiagnosticCode::kMalformedInput, "each entry of 'parts' must be a mapping", at(node));
       return std::nullopt;
     }
-    const auto e =
-        entries(node, std::vector<std::string>(std::begin(kPartKeys), std::end(kPartKeys)), "a part");
+    const auto e = entries(
+        node, std::vector<std::string>(std::begin(kPartKeys), std::end(kPartKeys)), "a part");
     Part part;
     part.category = PartCategory::kOther;
 
@@ -279,9 +276,8 @@ class PartFileReader {
               where);
       } else if (const PartGenerator* existing = library_.find(*name)) {
         error(DiagnosticCode::kDuplicateName,
-              fmt::format("part name '{}' is already used by the library part {}",
-                          *name,
-                          existing->name),
+              fmt::format(
+                  "part name '{}' is already used by the library part {}", *name, existing->name),
               where);
       } else if (!names_.insert(lower(*name)).second) {
         error(DiagnosticCode::kDuplicateName,
@@ -330,7 +326,8 @@ class PartFileReader {
       } else {
         std::set<std::string> prim_names;
         for (const YAML::Node& pn : list) {
-          if (auto p = read_primitive(pn, who, prim_names)) part.primitives.push_back(std::move(*p));
+          if (auto p = read_primitive(pn, who, prim_names))
+            part.primitives.push_back(std::move(*p));
         }
       }
     }

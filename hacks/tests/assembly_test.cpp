@@ -71,7 +71,10 @@ TEST(Assembly, DemoMatchesReferenceAtDefaultParameters) {
 
   // The templated, differentiable path agrees with forward propagation.
   for (int p = 0; p < a.part_count(); ++p) {
-    EXPECT_LT((a.part_frame<double>(PartId{p}, a.values().data()) - frames[static_cast<std::size_t>(p)]).norm(), 1e-9);
+    EXPECT_LT((a.part_frame<double>(PartId{p}, a.values().data()).matrix() -
+               frames[static_cast<std::size_t>(p)])
+                  .norm(),
+              1e-9);
   }
 }
 
@@ -145,8 +148,8 @@ TEST(Assembly, ConnectDecidesTreeOrCycle) {
   EXPECT_EQ(a.cycle_connections().size(), 1u);
   // The accepted configuration really closes the cycle.
   const auto [f1, f2] = a.connection_frames<double>(r.connection, a.values().data());
-  EXPECT_LT((f1.topRightCorner<3, 1>() - f2.topRightCorner<3, 1>()).norm(), 1e-3);
-  EXPECT_LT((f1.topLeftCorner<3, 3>() - f2.topLeftCorner<3, 3>()).norm(), 1e-4);
+  EXPECT_LT((f1.t - f2.t).norm(), 1e-3);
+  EXPECT_LT((f1.R - f2.R).norm(), 1e-4);
   // The basket's handle now carries two connections.
   EXPECT_EQ(a.connections_of(PartId{3}, 0).size(), 2u);
 }

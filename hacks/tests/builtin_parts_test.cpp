@@ -78,7 +78,8 @@ Vec3 parse_vec3(const std::string& s) {
   return v;
 }
 
-// "hook1 = Hook(arc_radius 12.5, arc_angle 180, thickness 1.25) [HookFlex] @ (0, 16, -61) / [90, 0, 0]"
+// "hook1 = Hook(arc_radius 12.5, arc_angle 180, thickness 1.25) [HookFlex] @ (0, 16, -61) / [90, 0,
+// 0]"
 std::optional<RowPrimitive> parse_primitive(const std::string& text) {
   static const std::regex re(
       R"(^(\w+) = (\w+)\(([^)]*)\)\s*(\[.*\])?\s*@ \(([^)]*)\) / \[([^\]]*)\]$)");
@@ -161,19 +162,20 @@ const std::vector<Row>& table() {
   return rows;
 }
 
-#define REQUIRE_TABLE()                                                  \
+#define REQUIRE_TABLE()                                                 \
   if (table().empty()) GTEST_SKIP() << "reference table not available"; \
   static_assert(true)
 
 std::optional<PrimitiveType> table_type(const std::string& t) {
-  static const std::map<std::string, PrimitiveType> types{{"Rod", PrimitiveType::kRod},
-                                                          {"Hook", PrimitiveType::kHook},
-                                                          {"Ring", PrimitiveType::kRing},
-                                                          {"Clip", PrimitiveType::kClip},
-                                                          {"Tube", PrimitiveType::kTube},
-                                                          {"Edge", PrimitiveType::kEdge},
-                                                          {"Surface", PrimitiveType::kSurface},
-                                                          {"Hemisphere", PrimitiveType::kHemisphere}};
+  static const std::map<std::string, PrimitiveType> types{
+      {"Rod", PrimitiveType::kRod},
+      {"Hook", PrimitiveType::kHook},
+      {"Ring", PrimitiveType::kRing},
+      {"Clip", PrimitiveType::kClip},
+      {"Tube", PrimitiveType::kTube},
+      {"Edge", PrimitiveType::kEdge},
+      {"Surface", PrimitiveType::kSurface},
+      {"Hemisphere", PrimitiveType::kHemisphere}};
   const auto it = types.find(t);
   if (it == types.end()) return std::nullopt;
   return it->second;
@@ -264,9 +266,9 @@ TEST(BuiltinParts, TableIsComplete) {
   EXPECT_EQ(table().size(), 56u);
   // Every library part has a row and every row a part.
   for (const PartGenerator& g : PartsLibrary::builtin().generators()) {
-    EXPECT_TRUE(std::any_of(table().begin(), table().end(), [&](const Row& r) {
-      return r.name == g.name;
-    })) << g.name << " is not in the table";
+    EXPECT_TRUE(
+        std::any_of(table().begin(), table().end(), [&](const Row& r) { return r.name == g.name; }))
+        << g.name << " is not in the table";
   }
   EXPECT_EQ(PartsLibrary::builtin().generators().size(), table().size());
 }
@@ -408,10 +410,9 @@ TEST(BuiltinParts, ParamTurnbuckle) {
     EXPECT_DOUBLE_EQ(part->mass, 1699.8);
     EXPECT_DOUBLE_EQ(part->params.at("extended_length"), l);
     // The details after the table write hook2's rotation as [-5, 90, 0].
-    EXPECT_LT((rotation(part->primitives[1].frame.rot) - rotation(Vec3(-5, 90, 0)))
-                  .cwiseAbs()
-                  .maxCoeff(),
-              kTol);
+    EXPECT_LT(
+        (rotation(part->primitives[1].frame.rot) - rotation(Vec3(-5, 90, 0))).cwiseAbs().maxCoeff(),
+        kTol);
   }
   auto fig11 = make("ParamTurnbuckle", {{"extended_length", 25.135}});
   ASSERT_NE(fig11, nullptr);
@@ -489,9 +490,8 @@ void expect_hanger(const Part& part, const ParamValues& v) {
 
 TEST(BuiltinParts, ParamHangerFormulas) {
   REQUIRE_TABLE();
-  const auto row = std::find_if(table().begin(), table().end(), [](const Row& r) {
-    return r.name == "ParamHanger";
-  });
+  const auto row = std::find_if(
+      table().begin(), table().end(), [](const Row& r) { return r.name == "ParamHanger"; });
   ASSERT_NE(row, table().end());
   // "defaults length 435, height 115, bar_d 6.35, ...": the schema defaults match the row.
   std::smatch m;
@@ -541,8 +541,8 @@ TEST(BuiltinParts, ParamHangerFormulas) {
     EXPECT_EQ(part->params, full);
     EXPECT_NEAR(part->mass / def->mass, part->mesh.volume() / def->mesh.volume(), 1e-9);
   }
-  EXPECT_LE(hanger_formulas({{"length", 100}, {"bend_d", 70}, {"bar_d", 2}, {"hook_d", 40},
-                             {"hook_h", 105}})
+  EXPECT_LE(hanger_formulas(
+                {{"length", 100}, {"bend_d", 70}, {"bar_d", 2}, {"hook_d", 40}, {"hook_h", 105}})
                 .rod_l,
             20);
   auto longer = make("ParamHanger", {{"length", 600}});

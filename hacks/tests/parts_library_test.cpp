@@ -1,16 +1,15 @@
 // PartsLibrary lookup and user part files (load_yaml): valid files load; malformed ones report
 // the right code at the right 1-based line and add nothing.
 
+#include "fabkit/hacks/parts_library.h"
+
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <string>
-
-#include <unistd.h>
-
-#include "fabkit/hacks/parts_library.h"
 
 namespace fabkit::hacks {
 namespace {
@@ -159,11 +158,12 @@ TEST_F(PartFiles, ValidFileLoadsAndMakesParts) {
 }
 
 TEST_F(PartFiles, YamlSyntaxError) {
-  expect_error("parts:\n"
-               "  - name: Broken\n"
-               "    description: a: b\n",
-               DiagnosticCode::kMalformedInput,
-               3);
+  expect_error(
+      "parts:\n"
+      "  - name: Broken\n"
+      "    description: a: b\n",
+      DiagnosticCode::kMalformedInput,
+      3);
 }
 
 TEST_F(PartFiles, MissingPrimitives) {
@@ -175,14 +175,15 @@ TEST_F(PartFiles, MissingPrimitives) {
 }
 
 TEST_F(PartFiles, UnknownPrimitiveType) {
-  expect_error("parts:\n"
-               "  - name: BadType\n"
-               "    primitives:\n"
-               "      - name: p\n"
-               "        type: spring\n"
-               "        radius: 3\n",
-               DiagnosticCode::kUnknownName,
-               5);
+  expect_error(
+      "parts:\n"
+      "  - name: BadType\n"
+      "    primitives:\n"
+      "      - name: p\n"
+      "        type: spring\n"
+      "        radius: 3\n",
+      DiagnosticCode::kUnknownName,
+      5);
 }
 
 TEST_F(PartFiles, NegativeRadius) {
@@ -198,32 +199,34 @@ TEST_F(PartFiles, NegativeRadius) {
 }
 
 TEST_F(PartFiles, NotANumber) {
-  expect_error("parts:\n"
-               "  - name: NanHook\n"
-               "    primitives:\n"
-               "      - name: hook\n"
-               "        type: hook\n"
-               "        arc_radius: 10\n"
-               "        arc_angle: .nan\n"
-               "        thickness: 1\n",
-               DiagnosticCode::kInvalidValue,
-               7);
+  expect_error(
+      "parts:\n"
+      "  - name: NanHook\n"
+      "    primitives:\n"
+      "      - name: hook\n"
+      "        type: hook\n"
+      "        arc_radius: 10\n"
+      "        arc_angle: .nan\n"
+      "        thickness: 1\n",
+      DiagnosticCode::kInvalidValue,
+      7);
 }
 
 TEST_F(PartFiles, DuplicatePrimitiveName) {
-  expect_error("parts:\n"
-               "  - name: Dup\n"
-               "    primitives:\n"
-               "      - name: peg\n"
-               "        type: rod\n"
-               "        radius: 1\n"
-               "        length: 5\n"
-               "      - name: peg\n"
-               "        type: rod\n"
-               "        radius: 1\n"
-               "        length: 5\n",
-               DiagnosticCode::kDuplicateName,
-               8);
+  expect_error(
+      "parts:\n"
+      "  - name: Dup\n"
+      "    primitives:\n"
+      "      - name: peg\n"
+      "        type: rod\n"
+      "        radius: 1\n"
+      "        length: 5\n"
+      "      - name: peg\n"
+      "        type: rod\n"
+      "        radius: 1\n"
+      "        length: 5\n",
+      DiagnosticCode::kDuplicateName,
+      8);
 }
 
 TEST_F(PartFiles, MissingMeshFile) {
@@ -247,58 +250,63 @@ TEST_F(PartFiles, UnknownKey) {
 }
 
 TEST_F(PartFiles, FieldOfAnotherPrimitiveType) {
-  expect_error("parts:\n"
-               "  - name: RodWithArc\n"
-               "    primitives:\n"
-               "      - name: peg\n"
-               "        type: rod\n"
-               "        radius: 1\n"
-               "        length: 5\n"
-               "        arc_angle: 90\n",
-               DiagnosticCode::kUnknownName,
-               8);
+  expect_error(
+      "parts:\n"
+      "  - name: RodWithArc\n"
+      "    primitives:\n"
+      "      - name: peg\n"
+      "        type: rod\n"
+      "        radius: 1\n"
+      "        length: 5\n"
+      "        arc_angle: 90\n",
+      DiagnosticCode::kUnknownName,
+      8);
 }
 
 TEST_F(PartFiles, MissingShapeField) {
-  expect_error("parts:\n"
-               "  - name: Short\n"
-               "    primitives:\n"
-               "      - name: peg\n"
-               "        type: rod\n"
-               "        radius: 1\n",
-               DiagnosticCode::kMalformedInput,
-               4);
+  expect_error(
+      "parts:\n"
+      "  - name: Short\n"
+      "    primitives:\n"
+      "      - name: peg\n"
+      "        type: rod\n"
+      "        radius: 1\n",
+      DiagnosticCode::kMalformedInput,
+      4);
 }
 
 TEST_F(PartFiles, WrongNodeType) {
-  expect_error("parts:\n"
-               "  - name: Listy\n"
-               "    primitives: {name: peg}\n",
-               DiagnosticCode::kMalformedInput,
-               3);
+  expect_error(
+      "parts:\n"
+      "  - name: Listy\n"
+      "    primitives: {name: peg}\n",
+      DiagnosticCode::kMalformedInput,
+      3);
 }
 
 TEST_F(PartFiles, NameClashesWithBuiltin) {
-  expect_error("parts:\n"
-               "  - name: DoubleHook\n"
-               "    primitives:\n"
-               "      - {name: peg, type: rod, radius: 1, length: 5}\n",
-               DiagnosticCode::kDuplicateName,
-               2);
+  expect_error(
+      "parts:\n"
+      "  - name: DoubleHook\n"
+      "    primitives:\n"
+      "      - {name: peg, type: rod, radius: 1, length: 5}\n",
+      DiagnosticCode::kDuplicateName,
+      2);
 }
 
 TEST_F(PartFiles, WireThickerThanItsArc) {
   // Primitive::validate's relational checks report at the primitive's line.
-  expect_error("parts:\n"
-               "  - name: FatHook\n"
-               "    primitives:\n"
-               "      - name: hook\n"
-               "        type: hook\n"
-               "        arc_radius: 2\n"
-               "        arc_angle: 180\n"
-               "        thickness: 3\n",
-               DiagnosticCode::kInvalidValue,
-               4);
+  expect_error(
+      "parts:\n"
+      "  - name: FatHook\n"
+      "    primitives:\n"
+      "      - name: hook\n"
+      "        type: hook\n"
+      "        arc_radius: 2\n"
+      "        arc_angle: 180\n"
+      "        thickness: 3\n",
+      DiagnosticCode::kInvalidValue,
+      4);
 }
 
 TEST_F(PartFiles, UnreadableFile) {

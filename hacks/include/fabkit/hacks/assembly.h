@@ -184,11 +184,11 @@ class Assembly {
 
   /// World frame of a part, differentiable in x.
   template <class T>
-  Mat4T<T> part_frame(PartId id, const T* x) const;
+  Rigid<T> part_frame(PartId id, const T* x) const;
   /// World frames of a connection's two connector frames, the first including the
   /// alignment offset; equal when the connection is closed.
   template <class T>
-  std::pair<Mat4T<T>, Mat4T<T>> connection_frames(ConnectionId id, const T* x) const;
+  std::pair<Rigid<T>, Rigid<T>> connection_frames(ConnectionId id, const T* x) const;
 
   /// Available critical dimension of a primitive (§4.3); empty if it has none.
   std::vector<double> available_critical_dim(PartId id, int primitive) const;
@@ -206,7 +206,7 @@ class Assembly {
   PartId insert_part(std::shared_ptr<Part> part, bool environment, const Frame& frame);
   Connector make_connector(PartId part, int primitive, std::vector<ParamSpec> params);
   template <class T>
-  Mat4T<T> connector_world(const Connector& c, const Mat4T<T>& part_frame, const T* x) const;
+  Rigid<T> connector_world(const Connector& c, const Rigid<T>& part_frame, const T* x) const;
 
   std::vector<PartNode> parts_;
   std::vector<std::vector<PrimitiveState>> primitive_state_;
@@ -219,31 +219,32 @@ class Assembly {
 // ---- templates ---------------------------------------------------------------------------
 
 template <class T>
-Mat4T<T> Assembly::connector_world(const Connector& c, const Mat4T<T>& frame, const T* x) const {
+Rigid<T> Assembly::connector_world(const Connector& c, const Rigid<T>& frame, const T* x) const {
   const Primitive& p = parts_[static_cast<std::size_t>(c.part.value)]
                            .part->primitives[static_cast<std::size_t>(c.primitive)];
-  return frame * connector_frame<T>(p, x + c.offset);
+  Rigid<T> m = frame * Rigid<T>::from_matrix(p.frame.matrix());
+  apply_connector<T>(p.connector_kind(), p.shape, x + c.offset, m);
+  return m;
 }
 
 template <class T>
-Mat4T<T> Assembly::part_frame(PartId id, const T* x) const {
+Rigid<T> Assembly::part_frame(PartId id, const T* x) const {
   const PartNode& n = parts_[static_cast<std::size_t>(id.value)];
-  if (!n.parent.valid()) return n.frame.matrix().cast<T>();
+  if (!n.parent.valid()) return Rigid<T>::from_matrix(n.frame.matrix());
   const Connection& c = connections_[static_cast<std::size_t>(n.parent.value)];
-  const Mat4T<T> parent = part_frame<T>(c.first.part, x);
-  const Primitive& child_prim =
-      n.part->primitives[static_cast<std::size_t>(c.second.primitive)];
+  const Primitive& child = n.part->primitives[static_cast<std::size_t>(c.second.primitive)];
   // Q = P · C_first · A · C_second⁻¹
-  return connector_world<T>(c.first, parent, x) * c.offset.cast<T>() *
-         rigid_inverse<T>(connector_frame<T>(child_prim, x + c.second.offset));
+  return connector_world<T>(c.first, part_frame<T>(c.first.part, x), x) *
+         Rigid<T>::from_matrix(c.offset) *
+         connector_transform<T>(child, x + c.second.offset).inverse();
 }
 
 template <class T>
-std::pair<Mat4T<T>, Mat4T<T>> Assembly::connection_frames(ConnectionId id, const T* x) const {
+std::pair<Rigid<T>, Rigid<T>> Assembly::connection_frames(ConnectionId id, const T* x) const {
   const Connection& c = connections_[static_cast<std::size_t>(id.value)];
-  const Mat4T<T> first = connector_world<T>(c.first, part_frame<T>(c.first.part, x), x) *
-                         c.offset.cast<T>();
-  const Mat4T<T> second = connector_world<T>(c.second, part_frame<T>(c.second.part, x), x);
+  const Rigid<T> first =
+      connector_world<T>(c.first, part_frame<T>(c.first.part, x), x) * Rigid<T>::from_matrix(c.offset);
+  const Rigid<T> second = connector_world<T>(c.second, part_frame<T>(c.second.part, x), x);
   return {first, second};
 }
 

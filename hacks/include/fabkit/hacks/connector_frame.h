@@ -10,63 +10,81 @@
 
 namespace fabkit::hacks {
 
-/// Connector frame relative to the primitive's base frame. `q` holds connector_dof(kind)
-/// values in the order of Primitive::connector_params().
+/// Right-multiplies `m` by the connector frame relative to the primitive's base frame.
+/// `q` holds connector_dof(kind) values in the order of Primitive::connector_params().
 template <class T>
-Mat4T<T> connector_local(ConnectorKind kind, const PrimitiveShape& s, const T* q) {
+void apply_connector(ConnectorKind kind, const PrimitiveShape& s, const T* q, Rigid<T>& m) {
   using std::cos;
   using std::sin;
   const T zero(0);
   const T deg(kDegToRad);
   switch (kind) {
-    case ConnectorKind::kRod:  // (t, φ)
-      return translation(zero, T(s.radius), (q[0] - T(0.5)) * T(s.length)) * rot_x(T(-90)) *
-             rot_x(q[1] - T(90));
-    case ConnectorKind::kRodCenterline:  // (t)
-      return translation(zero, zero, (q[0] - T(0.5)) * T(s.length)) * rot_x(T(-90));
+    case ConnectorKind::kRod:  // (t, φ): T(0, r, (t-½)L) · Rx(-90) · Rx(φ-90)
+      m.translate(zero, T(s.radius), (q[0] - T(0.5)) * T(s.length)).rotate_x(q[1] - T(180));
+      return;
+    case ConnectorKind::kRodCenterline:  // (t): T(0, 0, (t-½)L) · Rx(-90)
+      m.translate(zero, zero, (q[0] - T(0.5)) * T(s.length)).rotate_x(T(-90));
+      return;
     case ConnectorKind::kHook:
-    case ConnectorKind::kRing: {  // (θ): inner side of the wire
-      const T r(s.arc_radius - s.thickness);
-      const T th = q[0] * deg;
-      return translation(zero, -r * sin(th), -r * cos(th)) * rot_x(-q[0]);
-    }
+    case ConnectorKind::kRing:
     case ConnectorKind::kHookFlex:
-    case ConnectorKind::kRingFlex: {  // (θ, φ)
+    case ConnectorKind::kRingFlex: {  // (θ[, φ]): inner side of the wire, T(0, -r sinθ, -r cosθ) · Rx(-θ)
       const T r(s.arc_radius - s.thickness);
       const T th = q[0] * deg;
-      return translation(zero, -r * sin(th), -r * cos(th)) * rot_x(-q[0]) * rot_z(q[1] - T(90));
+      m.translate(zero, -r * sin(th), -r * cos(th)).rotate_x(-q[0]);
+      if (kind == ConnectorKind::kHookFlex || kind == ConnectorKind::kRingFlex) {
+        m.rotate_z(q[1] - T(90));
+      }
+      return;
     }
-    case ConnectorKind::kRingCenterline:  // (v0, v1)
-      return rot_y(q[0]) * rot_x(q[1]);
+    case ConnectorKind::kRingCenterline:  // (v0, v1): Ry(v0) · Rx(v1)
+      m.rotate_y(q[0]).rotate_x(q[1]);
+      return;
     case ConnectorKind::kTube:
     case ConnectorKind::kTubeCenterline: {  // (t, θ)
       const T rho(kind == ConnectorKind::kTube ? s.inner_radius + s.thickness : s.inner_radius);
       const T th = q[1] * deg;
-      return translation(zero, zero, (q[0] - T(0.5)) * T(s.length)) * rot_x(T(-90)) *
-             translation(-rho * sin(th), zero, -rho * cos(th)) * rot_y(q[1]);
+      m.translate(zero, zero, (q[0] - T(0.5)) * T(s.length))
+          .rotate_x(T(-90))
+          .translate(-rho * sin(th), zero, -rho * cos(th))
+          .rotate_y(q[1]);
+      return;
     }
     case ConnectorKind::kClip:  // (t)
-      return translation(zero, zero, (q[0] - T(0.5)) * T(s.height));
+      m.translate(zero, zero, (q[0] - T(0.5)) * T(s.height));
+      return;
     case ConnectorKind::kEdge:  // (t)
-      return translation((q[0] - T(0.5)) * T(s.length), T(0.5 * s.width), zero);
+      m.translate((q[0] - T(0.5)) * T(s.length), T(0.5 * s.width), zero);
+      return;
     case ConnectorKind::kSurface:  // (t1, t2, s)
-      return translation((q[1] - T(0.5)) * T(s.length), (T(0.5) - q[0]) * T(s.width), T(0.05)) *
-             rot_z(q[2]);
+      m.translate((q[1] - T(0.5)) * T(s.length), (T(0.5) - q[0]) * T(s.width), T(0.05))
+          .rotate_z(q[2]);
+      return;
     case ConnectorKind::kHemisphere: {  // (θ, φ, s)
       const T big_r(s.radius);
       const T th = q[0] * deg;
       const T ph = q[1] * deg;
-      return translation(big_r * sin(ph), big_r * cos(ph) * sin(th), -big_r * cos(ph) * cos(th)) *
-             rot_y(q[1]) * rot_x(-q[0]) * rot_z(q[2]);
+      m.translate(big_r * sin(ph), big_r * cos(ph) * sin(th), -big_r * cos(ph) * cos(th))
+          .rotate_y(q[1])
+          .rotate_x(-q[0])
+          .rotate_z(q[2]);
+      return;
     }
   }
-  return Mat4T<T>::Identity();
 }
 
 /// Connector frame in the part's coordinates: B · local(q).
 template <class T>
+Rigid<T> connector_transform(const Primitive& p, const T* q) {
+  Rigid<T> m = Rigid<T>::from_matrix(p.frame.matrix());
+  apply_connector<T>(p.connector_kind(), p.shape, q, m);
+  return m;
+}
+
+/// Same as a 4×4 homogeneous matrix.
+template <class T>
 Mat4T<T> connector_frame(const Primitive& p, const T* q) {
-  return p.frame.matrix().cast<T>() * connector_local<T>(p.connector_kind(), p.shape, q);
+  return connector_transform<T>(p, q).matrix();
 }
 
 }  // namespace fabkit::hacks
