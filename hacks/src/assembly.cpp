@@ -22,6 +22,12 @@ std::string join_types(const std::vector<PrimitiveType>& types) {
   return out.empty() ? "nothing" : out;
 }
 
+// "t (DoubleHook)" for a named instance, "DoubleHook" otherwise.
+std::string describe_part(const Part& p) {
+  return p.instance_name.empty() ? p.type_name
+                                 : fmt::format("{} ({})", p.instance_name, p.type_name);
+}
+
 double elapsed_ms(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)
       .count();
@@ -196,8 +202,7 @@ ConnectReport Assembly::connect(const PrimitiveRef& a, const PrimitiveRef& b,
     } else if (!r->valid()) {
       diags.error(DiagnosticCode::kUnknownPrimitive,
                   fmt::format("connect: {} has no primitive '{}' (it has {})",
-                              r->part->instance_name.empty() ? r->part->type_name
-                                                             : r->part->instance_name,
+                              describe_part(*r->part),
                               r->requested,
                               r->part->primitive_list()),
                   where);
@@ -229,8 +234,8 @@ ConnectReport Assembly::connect(const PrimitiveRef& a, const PrimitiveRef& b,
     diags.error(DiagnosticCode::kNotInAssembly,
                 fmt::format("connect: neither {} nor {} is in the assembly yet; connect each new "
                             "part to something already in it",
-                            a.part->type_name,
-                            b.part->type_name),
+                            describe_part(*a.part),
+                            describe_part(*b.part)),
                 where);
     return report;
   }

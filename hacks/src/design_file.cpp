@@ -53,6 +53,12 @@ class Reader {
         base_dir_(std::move(base_dir)) {}
 
   void run(std::string_view text, Design& design) {
+    build(text, design);
+    design.diagnostics = diags_;
+  }
+
+ private:
+  void build(std::string_view text, Design& design) {
     YAML::Node root;
     try {
       root = YAML::Load(std::string(text));
@@ -61,7 +67,6 @@ class Reader {
             loc(e.mark));
       return;
     }
-    design.diagnostics = Diagnostics();
     if (!root.IsMap()) {
       error(DiagnosticCode::kMalformedInput,
             "a design file must be a YAML mapping with environment, parts, connections and target",
@@ -138,10 +143,7 @@ class Reader {
     TargetDecl tdecl;
     if (target) tdecl = parse_target(target, design);
 
-    if (diags_.has_errors()) {
-      design.diagnostics = diags_;
-      return;  // input errors: do not build anything
-    }
+    if (diags_.has_errors()) return;  // input errors: build nothing
     design.readable = true;
 
     for (const EnvDecl& e : environments) {
@@ -166,14 +168,16 @@ class Reader {
                               c.options.fixed ? " (fixed)" : "");
       const bool a_in = design.assembly.find(c.a.part.get()).has_value();
       const bool b_in = design.assembly.find(c.b.part.get()).has_value();
-      if ((!a_in && missing.count(c.a.part.get())) || (!b_in && missing.count(c.b.part.get()))) {
+      // A connect between two parts that are both out only because an earlier connect
+      // failed cannot succeed: say so once instead of a confusing second error.
+      if (!a_in && !b_in && (missing.count(c.a.part.get()) || missing.count(c.b.part.get()))) {
         step.skipped = true;
         diags_.add({Severity::kNote,
                     DiagnosticCode::kNotInAssembly,
                     fmt::format("skipped {}: {} is not in the assembly because an earlier connect "
                                 "failed",
                                 step.text,
-                                !a_in && missing.count(c.a.part.get()) ? c.name_a : c.name_b),
+                                missing.count(c.a.part.get()) ? c.name_a : c.name_b),
                     c.where});
         design.steps.push_back(std::move(step));
         continue;
@@ -215,10 +219,8 @@ class Reader {
                        declared_at_[name]);
       }
     }
-    design.diagnostics = diags_;
   }
 
- private:
   struct EnvDecl {
     std::string name;
     std::shared_ptr<Part> part;

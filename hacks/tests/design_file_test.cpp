@@ -141,15 +141,25 @@ TEST(DesignFile, LaterStepsAfterAFailedConnectAreSkippedWithANote) {
   - {name: big, part: LongTensionRod}
   - {name: s, part: DoubleHook}
   - {name: t, part: DoubleHook}
+  - {name: u, part: DoubleHook}
 connections:
   - connect: [s.hook1, door.rod]
   - connect: [t.hook1, big.rod]
+  - connect: [u.hook1, t.hook2]
   - connect: [t.hook2, s.hook2]
 )");
   ASSERT_TRUE(d.readable);
   EXPECT_TRUE(d.steps[1].accepted);
   EXPECT_FALSE(d.steps[2].accepted);  // neither t nor big is in the assembly
-  EXPECT_TRUE(d.steps[3].accepted);   // t comes in here instead
+  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kNotInAssembly,
+                             "neither t (DoubleHook) nor big (LongTensionRod)", 10));
+  EXPECT_TRUE(d.steps[3].skipped);  // u and t: t is out because of the step before
+  EXPECT_FALSE(d.diagnostics.items()[1].severity == Severity::kError);
+  EXPECT_NE(d.diagnostics.items()[1].message.find("skipped connect u.hook1, t.hook2: t is not in "
+                                                  "the assembly because an earlier connect failed"),
+            std::string::npos)
+      << d.diagnostics.format();
+  EXPECT_TRUE(d.steps[4].accepted);  // t comes in here instead
 }
 
 TEST(DesignFile, UnreadableFile) {

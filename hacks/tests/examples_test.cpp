@@ -23,8 +23,11 @@ constexpr Expectation kExamples[] = {
     {"bird_feeder", 7, 1},           {"demo", 4, 0},
     {"clip_light_xs", 11, 0},        {"clip_light_s", 11, 0},
     {"clip_light_m", 9, 0},          {"clip_light_l", 9, 0},
-    {"reading_nook", 18, 2},
+    {"reading_nook", 19, 2},
 };
+
+// Readable test names and failure messages.
+void PrintTo(const Expectation& e, std::ostream* os) { *os << e.name; }
 
 class ExampleTest : public ::testing::TestWithParam<Expectation> {};
 
@@ -41,7 +44,9 @@ TEST_P(ExampleTest, PassesCheck) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Gallery, ExampleTest, ::testing::ValuesIn(kExamples),
-                         [](const auto& info) { return std::string(info.param.name); });
+                         [](const ::testing::TestParamInfo<Expectation>& p) {
+                           return std::string(p.param.name);
+                         });
 
 TEST(Examples, EveryBundledFileIsListed) {
   int files = 0;

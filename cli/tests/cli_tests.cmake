@@ -1,0 +1,44 @@
+# End-to-end checks of the fabkit command line: exit codes and what it prints.
+# Run by ctest as: cmake -DFABKIT=<binary> -DSOURCE_DIR=<repo> -P cli_tests.cmake
+
+function(expect_run expected_code expected_text)
+  execute_process(COMMAND ${FABKIT} ${ARGN}
+                  RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT code EQUAL expected_code)
+    message(FATAL_ERROR "fabkit ${ARGN}: exit ${code}, expected ${expected_code}\n${out}\n${err}")
+  endif()
+  string(FIND "${out}${err}" "${expected_text}" found)
+  if(found EQUAL -1)
+    message(FATAL_ERROR "fabkit ${ARGN}: output lacks '${expected_text}'\n${out}\n${err}")
+  endif()
+endfunction()
+
+set(tmp ${CMAKE_CURRENT_BINARY_DIR}/cli_test_files)
+file(MAKE_DIRECTORY ${tmp})
+
+# 0: valid.
+expect_run(0 "basket between rods: valid" check ${SOURCE_DIR}/examples/hacks/basket_between_rods.yaml)
+expect_run(0 "closes cycle rods.rod2 – eyehook2 – basket – eyehook1 – rods.rod1"
+           check ${SOURCE_DIR}/examples/hacks/basket_between_rods.yaml)
+expect_run(0 "bird feeder: valid" demo)
+expect_run(0 "DoubleHook" parts)
+expect_run(0 "hook1        hook (arc angle 270°" parts DoubleHook)
+# 1: usage.
+expect_run(1 "design" check)
+expect_run(1 "" nonsense-command)
+expect_run(1 "" check a.yaml --restarts 0)
+# 2: unreadable or malformed input.
+expect_run(2 "cannot open design file" check ${tmp}/does-not-exist.yaml)
+file(WRITE ${tmp}/syntax.yaml "environment:\n  - {name: door, part: [\n")
+expect_run(2 "syntax.yaml:3:1: error: YAML syntax error" check ${tmp}/syntax.yaml)
+file(WRITE ${tmp}/unknown.yaml "environment:\n  - {name: e, part: CeilingHok}\n")
+expect_run(2 "unknown.yaml:2:" check ${tmp}/unknown.yaml)
+expect_run(2 "did you mean" check ${tmp}/unknown.yaml)
+file(WRITE ${tmp}/nan.yaml "environment:\n  - {name: e, primitives: {rod: {type: rod, radius: .nan, length: 5}}}\n")
+expect_run(2 "not a finite number" check ${tmp}/nan.yaml)
+expect_run(2 "unknown part 'NoSuchPart'" parts NoSuchPart)
+# 3: infeasible design.
+file(WRITE ${tmp}/infeasible.yaml
+"environment:\n  - {name: rods, part: LongTensionRod}\nparts:\n  - {name: s, part: DoubleHook}\nconnections:\n  - connect: [s.hook1, rods.rod]\n")
+expect_run(3 "infeasible.yaml:6:5: error: s.hook1: hook opening 11.6 mm is smaller than rod radius 12.7 mm (rods.rod)"
+           check ${tmp}/infeasible.yaml)
