@@ -33,7 +33,9 @@ Prepared prepare(const std::string& example) {
     if (s.report.closes_cycle) last_cycle = connect_index;
   }
   if (!full.feasible() || last_cycle < 0) {
-    std::fprintf(stderr, "%s: not a feasible design with a cycle\n%s", path.c_str(),
+    std::fprintf(stderr,
+                 "%s: not a feasible design with a cycle\n%s",
+                 path.c_str(),
                  full.diagnostics.format().c_str());
     std::exit(1);
   }

@@ -1,9 +1,9 @@
 #include "commands.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstdio>
-
-#include <fmt/format.h>
 
 #include "embedded_examples.h"
 #include "fabkit/hacks/design_file.h"
@@ -15,7 +15,9 @@ namespace {
 using hacks::Design;
 using hacks::DesignStep;
 
-void print_diagnostic(const Diagnostic& d) { std::fprintf(stderr, "%s\n", d.format().c_str()); }
+void print_diagnostic(const Diagnostic& d) {
+  std::fprintf(stderr, "%s\n", d.format().c_str());
+}
 
 std::string where_prefix(const SourceLocation& where) {
   if (!where.known()) return "";
@@ -55,17 +57,19 @@ void print_summary(const Design& design) {
   const std::size_t cycles = a.cycle_connections().size();
   int rejected = 0;
   for (const DesignStep& s : design.steps) rejected += (!s.accepted && !s.skipped) ? 1 : 0;
-  const char* verdict = design.feasible() ? "valid" : (design.readable ? "infeasible" : "unreadable");
-  std::printf("%s: %s — %d parts, %zu connections (%zu close%s a cycle), %d connector parameters%s\n",
-              design.name.empty() ? "design" : design.name.c_str(),
-              verdict,
-              a.part_count(),
-              a.connections().size(),
-              cycles,
-              cycles == 1 ? "s" : "",
-              a.parameter_count(),
-              rejected ? fmt::format("; {} step{} rejected", rejected, rejected == 1 ? "" : "s").c_str()
-                       : "");
+  const char* verdict =
+      design.feasible() ? "valid" : (design.readable ? "infeasible" : "unreadable");
+  std::printf(
+      "%s: %s — %d parts, %zu connections (%zu close%s a cycle), %d connector parameters%s\n",
+      design.name.empty() ? "design" : design.name.c_str(),
+      verdict,
+      a.part_count(),
+      a.connections().size(),
+      cycles,
+      cycles == 1 ? "s" : "",
+      a.parameter_count(),
+      rejected ? fmt::format("; {} step{} rejected", rejected, rejected == 1 ? "" : "s").c_str()
+               : "");
 }
 
 int check_design(Design design, bool quiet) {
@@ -94,7 +98,8 @@ int run_check(const CheckSettings& settings) {
 
 int run_demo() {
   std::printf("fabkit demo: the bird feeder hack of the FabHacks paper (Fig. 1, left)\n\n");
-  Design design = hacks::load_design_text(kDemoDesign, kDemoDesignName, hacks::PartsLibrary::builtin());
+  Design design =
+      hacks::load_design_text(kDemoDesign, kDemoDesignName, hacks::PartsLibrary::builtin());
   return check_design(std::move(design), false);
 }
 

@@ -15,9 +15,9 @@ enum ExitCode : int {
 };
 
 struct CheckSettings {
-  std::string design;                  ///< path, or the embedded demo when empty
-  std::vector<std::string> part_files; ///< extra part libraries (YAML)
-  bool quiet = false;                  ///< only diagnostics, no per-step lines
+  std::string design;                   ///< path, or the embedded demo when empty
+  std::vector<std::string> part_files;  ///< extra part libraries (YAML)
+  bool quiet = false;                   ///< only diagnostics, no per-step lines
   int restarts = 16;
   unsigned seed = 1;
 };

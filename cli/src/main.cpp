@@ -1,6 +1,5 @@
 // fabkit command line: parse, then hand over to run_<command>().
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 
 #include "commands.h"

@@ -1,8 +1,8 @@
 #include "fabkit/core/diagnostics.h"
 
-#include <array>
-
 #include <fmt/format.h>
+
+#include <array>
 
 namespace fabkit {
 namespace {

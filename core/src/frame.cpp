@@ -33,7 +33,9 @@ Frame Frame::operator*(const Frame& other) const {
   return from_matrix(matrix() * other.matrix());
 }
 
-Frame Frame::inverse() const { return from_matrix(rigid_inverse<double>(matrix())); }
+Frame Frame::inverse() const {
+  return from_matrix(rigid_inverse<double>(matrix()));
+}
 
 Vec3 Frame::apply(const Vec3& p) const {
   const Mat4 m = matrix();

@@ -6,7 +6,9 @@ namespace fabkit {
 namespace {
 
 TEST(Diagnostics, FormatsFileLineAndSeverity) {
-  Diagnostic d{Severity::kError, DiagnosticCode::kDimensionMismatch, "hook too small",
+  Diagnostic d{Severity::kError,
+               DiagnosticCode::kDimensionMismatch,
+               "hook too small",
                SourceLocation{"design.yaml", 12, 5}};
   EXPECT_EQ(d.format(), "design.yaml:12:5: error: hook too small");
   d.where = {};

@@ -54,12 +54,12 @@ TEST(Frame, CompositionAndInverse) {
 
 // Reference §1.2: the symmetry-aware difference of one Euler component.
 TEST(Frame, SymmetricAngleDifference) {
-  EXPECT_DOUBLE_EQ(symmetric_angle_difference(123, 0), 0);        // ignored
-  EXPECT_DOUBLE_EQ(symmetric_angle_difference(350, 360), -10);    // wraps into [-180, 180]
+  EXPECT_DOUBLE_EQ(symmetric_angle_difference(123, 0), 0);      // ignored
+  EXPECT_DOUBLE_EQ(symmetric_angle_difference(350, 360), -10);  // wraps into [-180, 180]
   EXPECT_DOUBLE_EQ(symmetric_angle_difference(-350, 360), 10);
   EXPECT_DOUBLE_EQ(symmetric_angle_difference(170, 360), 170);
-  EXPECT_DOUBLE_EQ(symmetric_angle_difference(170, 180), -10);    // half-turn symmetric
-  EXPECT_DOUBLE_EQ(symmetric_angle_difference(-190, 180), 170);   // |d| > s: Python modulo
+  EXPECT_DOUBLE_EQ(symmetric_angle_difference(170, 180), -10);   // half-turn symmetric
+  EXPECT_DOUBLE_EQ(symmetric_angle_difference(-190, 180), 170);  // |d| > s: Python modulo
   EXPECT_DOUBLE_EQ(symmetric_angle_difference(90, 180), 90);
 }
 

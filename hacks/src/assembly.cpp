@@ -1,10 +1,10 @@
 #include "fabkit/hacks/assembly.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <set>
-
-#include <fmt/format.h>
 
 #include "constraints.h"
 #include "cycle_closure.h"
@@ -75,6 +75,7 @@ PartId Assembly::insert_part(std::shared_ptr<Part> part, bool environment, const
   n.part = std::move(part);
   n.environment = environment;
   n.frame = frame;
+  n.placement = Rigid<double>::from_matrix(frame.matrix());
   parts_.push_back(n);
   std::vector<PrimitiveState> states;
   for (const Primitive& prim : parts_.back().part->primitives) {
@@ -90,10 +91,14 @@ Connector Assembly::make_connector(PartId part, int primitive, std::vector<Param
   c.primitive = primitive;
   c.offset = static_cast<int>(values_.size());
   c.params = std::move(params);
+  c.base = Rigid<double>::from_matrix(parts_[static_cast<std::size_t>(part.value)]
+                                          .part->primitives[static_cast<std::size_t>(primitive)]
+                                          .frame.matrix());
   return c;
 }
 
-ConnectReport Assembly::add(std::shared_ptr<Part> environment, const Frame& frame,
+ConnectReport Assembly::add(std::shared_ptr<Part> environment,
+                            const Frame& frame,
                             const SourceLocation& where) {
   ConnectReport report;
   if (!environment) {
@@ -103,19 +108,19 @@ ConnectReport Assembly::add(std::shared_ptr<Part> environment, const Frame& fram
   report.description = fmt::format("add {}", environment->type_name);
   for (int i = 0; i < 3; ++i) {
     if (!std::isfinite(frame.pos[i]) || !std::isfinite(frame.rot[i])) {
-      report.diagnostics.error(DiagnosticCode::kInvalidValue,
-                               fmt::format("add {}: frame {} has a non-finite value",
-                                           environment->type_name,
-                                           frame.to_string()),
-                               where);
+      report.diagnostics.error(
+          DiagnosticCode::kInvalidValue,
+          fmt::format(
+              "add {}: frame {} has a non-finite value", environment->type_name, frame.to_string()),
+          where);
       return report;
     }
   }
   if (find(environment.get())) {
-    report.diagnostics.error(DiagnosticCode::kDuplicateName,
-                             fmt::format("add: {} is already in the assembly",
-                                         environment->type_name),
-                             where);
+    report.diagnostics.error(
+        DiagnosticCode::kDuplicateName,
+        fmt::format("add: {} is already in the assembly", environment->type_name),
+        where);
     return report;
   }
   const PartId id = insert_part(std::move(environment), true, frame);
@@ -124,18 +129,19 @@ ConnectReport Assembly::add(std::shared_ptr<Part> environment, const Frame& fram
   return report;
 }
 
-ConnectReport Assembly::add(const PrimitiveRef& primitive, const Frame& frame,
+ConnectReport Assembly::add(const PrimitiveRef& primitive,
+                            const Frame& frame,
                             const SourceLocation& where) {
   if (!primitive.valid()) {
     ConnectReport report;
-    report.diagnostics.error(
-        DiagnosticCode::kUnknownPrimitive,
-        primitive.part ? fmt::format("add: {} has no primitive '{}' (it has {})",
-                                     primitive.part->type_name,
-                                     primitive.requested,
-                                     primitive.part->primitive_list())
-                       : std::string("add: no environment part given"),
-        where);
+    report.diagnostics.error(DiagnosticCode::kUnknownPrimitive,
+                             primitive.part
+                                 ? fmt::format("add: {} has no primitive '{}' (it has {})",
+                                               primitive.part->type_name,
+                                               primitive.requested,
+                                               primitive.part->primitive_list())
+                                 : std::string("add: no environment part given"),
+                             where);
     return report;
   }
   if (primitive.part->primitives.size() == 1) return add(primitive.part, frame, where);
@@ -144,7 +150,8 @@ ConnectReport Assembly::add(const PrimitiveRef& primitive, const Frame& frame,
   return add(primitive.part, Frame(), where);
 }
 
-Diagnostics Assembly::end_with(std::shared_ptr<Part> part, const Frame& frame,
+Diagnostics Assembly::end_with(std::shared_ptr<Part> part,
+                               const Frame& frame,
                                const SourceLocation& where) {
   Diagnostics diags;
   if (!part || part->primitives.empty()) {
@@ -155,7 +162,8 @@ Diagnostics Assembly::end_with(std::shared_ptr<Part> part, const Frame& frame,
   return end_with(PrimitiveRef(part, 0), goal, where);
 }
 
-Diagnostics Assembly::end_with(const PrimitiveRef& primitive, const Frame& frame,
+Diagnostics Assembly::end_with(const PrimitiveRef& primitive,
+                               const Frame& frame,
                                const SourceLocation& where) {
   Diagnostics diags;
   if (!primitive.valid()) {
@@ -170,13 +178,15 @@ Diagnostics Assembly::end_with(const PrimitiveRef& primitive, const Frame& frame
   }
   for (int i = 0; i < 3; ++i) {
     if (!std::isfinite(frame.pos[i]) || !std::isfinite(frame.rot[i])) {
-      diags.error(DiagnosticCode::kInvalidValue,
-                  fmt::format("end_with: target frame {} has a non-finite value", frame.to_string()),
-                  where);
+      diags.error(
+          DiagnosticCode::kInvalidValue,
+          fmt::format("end_with: target frame {} has a non-finite value", frame.to_string()),
+          where);
       return diags;
     }
   }
-  if (auto id = find(primitive.part.get()); id && parts_[static_cast<std::size_t>(id->value)].environment) {
+  if (auto id = find(primitive.part.get());
+      id && parts_[static_cast<std::size_t>(id->value)].environment) {
     diags.error(DiagnosticCode::kTargetMissing,
                 fmt::format("end_with: {} is an environment; the target must be a part the hack "
                             "holds",
@@ -188,7 +198,8 @@ Diagnostics Assembly::end_with(const PrimitiveRef& primitive, const Frame& frame
   return diags;
 }
 
-ConnectReport Assembly::connect(const PrimitiveRef& a, const PrimitiveRef& b,
+ConnectReport Assembly::connect(const PrimitiveRef& a,
+                                const PrimitiveRef& b,
                                 const ConnectOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   ConnectReport report;
@@ -197,8 +208,8 @@ ConnectReport Assembly::connect(const PrimitiveRef& a, const PrimitiveRef& b,
 
   for (const PrimitiveRef* r : {&a, &b}) {
     if (!r->part) {
-      diags.error(DiagnosticCode::kUnknownPart, "connect: a primitive without a part was given",
-                  where);
+      diags.error(
+          DiagnosticCode::kUnknownPart, "connect: a primitive without a part was given", where);
     } else if (!r->valid()) {
       diags.error(DiagnosticCode::kUnknownPrimitive,
                   fmt::format("connect: {} has no primitive '{}' (it has {})",
@@ -225,7 +236,8 @@ ConnectReport Assembly::connect(const PrimitiveRef& a, const PrimitiveRef& b,
       std::any_of(parts_.begin(), parts_.end(), [](const PartNode& n) { return n.environment; });
   if (!has_environment) {
     diags.error(DiagnosticCode::kNoEnvironment,
-                "connect: the assembly has no environment yet; add() one first", where);
+                "connect: the assembly has no environment yet; add() one first",
+                where);
     return report;
   }
   const std::optional<PartId> a_in = find(a.part.get());
@@ -271,13 +283,14 @@ ConnectReport Assembly::connect(const PrimitiveRef& a, const PrimitiveRef& b,
     return report;
   }
   // Single-connection primitives and repeated connections.
-  for (auto [part, prim, lbl] : {std::tuple{first_part, first_prim, l1},
-                                 std::tuple{second_part, second_prim, l2}}) {
+  for (auto [part, prim, lbl] :
+       {std::tuple{first_part, first_prim, l1}, std::tuple{second_part, second_prim, l2}}) {
     const Primitive& p = trial.node(part).part->primitives[static_cast<std::size_t>(prim)];
     const std::vector<ConnectionId> existing = trial.connections_of(part, prim);
     if (p.single_connection() && !existing.empty()) {
       const Connection& c = trial.connection(existing.front());
-      const Connector& other = (c.first.part == part && c.first.primitive == prim) ? c.second : c.first;
+      const Connector& other =
+          (c.first.part == part && c.first.primitive == prim) ? c.second : c.first;
       diags.error(DiagnosticCode::kSingleConnection,
                   fmt::format("{} already holds {}; a {} holds one thing only",
                               lbl,
@@ -292,7 +305,8 @@ ConnectReport Assembly::connect(const PrimitiveRef& a, const PrimitiveRef& b,
                       (c.first.part == second_part && c.first.primitive == second_prim);
     if (same) {
       diags.error(DiagnosticCode::kAlreadyConnected,
-                  fmt::format("{} and {} are already connected", l1, l2), where);
+                  fmt::format("{} and {} are already connected", l1, l2),
+                  where);
     }
   }
   if (diags.has_errors()) return report;
@@ -328,10 +342,11 @@ ConnectReport Assembly::connect(const PrimitiveRef& a, const PrimitiveRef& b,
     large[0].hi = 1 - mw;
     large[1].lo = ml;
     large[1].hi = 1 - ml;
-  } else if (!closes_cycle && ((k1 == ConnectorKind::kTube && k2 == ConnectorKind::kTubeCenterline) ||
-                               (k1 == ConnectorKind::kTubeCenterline && k2 == ConnectorKind::kTube) ||
-                               (k1 == ConnectorKind::kRod && k2 == ConnectorKind::kTubeCenterline) ||
-                               (k1 == ConnectorKind::kTubeCenterline && k2 == ConnectorKind::kRod))) {
+  } else if (!closes_cycle &&
+             ((k1 == ConnectorKind::kTube && k2 == ConnectorKind::kTubeCenterline) ||
+              (k1 == ConnectorKind::kTubeCenterline && k2 == ConnectorKind::kTube) ||
+              (k1 == ConnectorKind::kRod && k2 == ConnectorKind::kTubeCenterline) ||
+              (k1 == ConnectorKind::kTubeCenterline && k2 == ConnectorKind::kRod))) {
     // A roll on a rod or tube: the shorter one sits centred, the longer keeps it fully on.
     const bool first_shorter = p1.shape.length < p2.shape.length;
     std::vector<ParamSpec>& shorter = first_shorter ? params1 : params2;
@@ -368,6 +383,7 @@ ConnectReport Assembly::connect(const PrimitiveRef& a, const PrimitiveRef& b,
   Connection conn;
   conn.alignment = options.alignment;
   conn.offset = align.matrix(options.alignment);
+  conn.offset_rigid = Rigid<double>::from_matrix(conn.offset);
   conn.fixed = options.fixed;
   conn.closes_cycle = closes_cycle;
   conn.where = where;
@@ -453,21 +469,24 @@ ConnectReport Assembly::connect(const PrimitiveRef& a, const PrimitiveRef& b,
       for (const detail::MultiConnectionPair& m : detail::multi_connection_pairs(trial)) {
         const double f = detail::multi_connection_value<double>(m, r.x.data());
         if (f < -1e-3) {
-          overlap += fmt::format("{}{} overlap by {:.1f} mm", overlap.empty() ? "" : "; ",
-                                 m.description, -f);
+          overlap += fmt::format(
+              "{}{} overlap by {:.1f} mm", overlap.empty() ? "" : "; ", m.description, -f);
         }
       }
-      const std::string best = fmt::format(
-          "the best of {} start{} leaves {}", r.starts, r.starts == 1 ? "" : "s",
-          gap.empty() ? overlap : (overlap.empty() ? gap : gap + "; " + overlap));
+      const std::string best =
+          fmt::format("the best of {} start{} leaves {}",
+                      r.starts,
+                      r.starts == 1 ? "" : "s",
+                      gap.empty() ? overlap : (overlap.empty() ? gap : gap + "; " + overlap));
       if (closes_cycle) {
         diags.error(DiagnosticCode::kCycleNotClosable,
-                    fmt::format("cannot close cycle {}: {}", report.cycles.back(), best), where);
-      } else {
-        diags.error(DiagnosticCode::kMultiConnection,
-                    fmt::format("{} leaves no room on a shared primitive: {}", report.description,
-                                best),
+                    fmt::format("cannot close cycle {}: {}", report.cycles.back(), best),
                     where);
+      } else {
+        diags.error(
+            DiagnosticCode::kMultiConnection,
+            fmt::format("{} leaves no room on a shared primitive: {}", report.description, best),
+            where);
       }
       report.milliseconds = elapsed_ms(started);
       return report;
@@ -522,7 +541,8 @@ Assembly::CyclePath Assembly::cycle_path(ConnectionId closing) const {
   std::vector<PartId>& a = out.first_side;
   std::vector<PartId>& b = out.second_side;
   // Drop the shared part above the lowest common ancestor.
-  while (a.size() > 1 && b.size() > 1 && a.back() == b.back() && a[a.size() - 2] == b[b.size() - 2]) {
+  while (a.size() > 1 && b.size() > 1 && a.back() == b.back() &&
+         a[a.size() - 2] == b[b.size() - 2]) {
     a.pop_back();
     b.pop_back();
   }
@@ -540,7 +560,8 @@ std::string Assembly::describe_cycle(ConnectionId closing) const {
   };
   std::vector<std::string> items;
   items.push_back(label(loop.first_side.back(), top_primitive(loop.first_side, c.first.primitive)));
-  for (std::size_t k = loop.first_side.size() - 1; k-- > 0;) items.push_back(label(loop.first_side[k]));
+  for (std::size_t k = loop.first_side.size() - 1; k-- > 0;)
+    items.push_back(label(loop.first_side[k]));
   for (std::size_t k = 0; k + 1 < loop.second_side.size(); ++k) {
     items.push_back(label(loop.second_side[k]));
   }
@@ -572,9 +593,11 @@ std::vector<Mat4> Assembly::part_frames(const std::vector<double>& x) const {
     const Rigid<double> parent =
         Rigid<double>::from_matrix(out[static_cast<std::size_t>(c.first.part.value)]);
     const Primitive& child = n.part->primitives[static_cast<std::size_t>(c.second.primitive)];
-    out.push_back((connector_world<double>(c.first, parent, x.data()) *
-                   Rigid<double>::from_matrix(c.offset) *
-                   connector_transform<double>(child, x.data() + c.second.offset).inverse())
+    Rigid<double> child_connector = c.second.base;
+    apply_connector<double>(
+        child.connector_kind(), child.shape, x.data() + c.second.offset, child_connector);
+    out.push_back((connector_world<double>(c.first, parent, x.data()).then(c.offset_rigid) *
+                   child_connector.inverse())
                       .matrix());
   }
   return out;

@@ -1,17 +1,19 @@
 #include "fabkit/hacks/connection_rules.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <numbers>
-
-#include <fmt/format.h>
 
 namespace fabkit::hacks {
 namespace {
 
 using PT = PrimitiveType;
 
-bool is_pair(PT a, PT b, PT x, PT y) { return (a == x && b == y) || (a == y && b == x); }
+bool is_pair(PT a, PT b, PT x, PT y) {
+  return (a == x && b == y) || (a == y && b == x);
+}
 
 struct AlignmentRow {
   std::string_view key;  // "<first>_<second>"
@@ -23,7 +25,8 @@ struct AlignmentRow {
 const std::vector<AlignmentRow>& alignment_table() {
   static const std::vector<AlignmentRow> rows = [] {
     std::vector<AlignmentRow> r;
-    auto add = [&r](std::initializer_list<std::string_view> keys, std::array<double, 3> rot,
+    auto add = [&r](std::initializer_list<std::string_view> keys,
+                    std::array<double, 3> rot,
                     std::vector<int> axes) {
       for (std::string_view k : keys) r.push_back({k, rot, axes});
     };
@@ -89,7 +92,9 @@ const AlignmentRow* find_row(const std::string& key) {
   return nullptr;
 }
 
-std::string mm(double v) { return fmt::format("{:.1f} mm", v); }
+std::string mm(double v) {
+  return fmt::format("{:.1f} mm", v);
+}
 
 }  // namespace
 
@@ -155,7 +160,9 @@ AlignmentOffset alignment_offset(ConnectorKind first, ConnectorKind second) {
   return out;
 }
 
-bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagnostics& diags,
+bool check_compatibility(const PrimitiveInUse& a,
+                         const PrimitiveInUse& b,
+                         Diagnostics& diags,
                          const SourceLocation& where) {
   const std::size_t before = diags.size();
   const Primitive& pa = *a.primitive;
@@ -165,13 +172,17 @@ bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagn
     if (pa.type == x) return {&a, &b};
     return {&b, &a};
   };
-  auto fail = [&](DiagnosticCode code, std::string msg) { diags.error(code, std::move(msg), where); };
+  auto fail = [&](DiagnosticCode code, std::string msg) {
+    diags.error(code, std::move(msg), where);
+  };
   auto avail = [](const PrimitiveInUse& u, std::size_t i = 0) {
     if (u.available.size() > i) return u.available[i];
     const std::vector<double> cd = u.primitive->critical_dim();
     return cd.size() > i ? cd[i] : 0.0;
   };
-  auto no_space = [&](const PrimitiveInUse& host, double need, const PrimitiveInUse& guest,
+  auto no_space = [&](const PrimitiveInUse& host,
+                      double need,
+                      const PrimitiveInUse& guest,
                       const std::string& why) {
     const std::vector<double> total = host.primitive->critical_dim();
     fail(DiagnosticCode::kNoSpaceLeft,
@@ -186,9 +197,8 @@ bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagn
   };
   auto both_closed = [&](const PrimitiveInUse& x, const PrimitiveInUse& y) {
     fail(DiagnosticCode::kBothClosed,
-         fmt::format("{} and {} are both closed: neither can be slid onto the other",
-                     x.label,
-                     y.label));
+         fmt::format(
+             "{} and {} are both closed: neither can be slid onto the other", x.label, y.label));
   };
   auto must_be_open = [&](const PrimitiveInUse& closed, const PrimitiveInUse& ring) {
     fail(DiagnosticCode::kBothClosed,
@@ -197,8 +207,12 @@ bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagn
                      ring.label,
                      to_string(ring.primitive->type)));
   };
-  auto too_small = [&](const std::string& who, const std::string& what, double have,
-                       const std::string& other_what, double need, const std::string& other) {
+  auto too_small = [&](const std::string& who,
+                       const std::string& what,
+                       double have,
+                       const std::string& other_what,
+                       double need,
+                       const std::string& other) {
     fail(DiagnosticCode::kDimensionMismatch,
          fmt::format("{}: {} {} is {} {} {} ({})",
                      who,
@@ -216,7 +230,11 @@ bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagn
     const Primitive& h = *hook->primitive;
     if (r.closed_for_connect() && h.closed_for_connect()) both_closed(*rod, *hook);
     if (!(r.shape.radius < h.shape.arc_radius)) {
-      too_small(hook->label, "hook opening", h.shape.arc_radius, "rod radius", r.shape.radius,
+      too_small(hook->label,
+                "hook opening",
+                h.shape.arc_radius,
+                "rod radius",
+                r.shape.radius,
                 rod->label);
     }
     if (!(avail(*rod) > 2 * h.shape.thickness)) {
@@ -227,14 +245,22 @@ bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagn
     const Primitive& r = *rod->primitive;
     if (r.closed_for_connect()) must_be_open(*rod, *ring);
     if (!(r.shape.radius < ring->primitive->shape.arc_radius)) {
-      too_small(ring->label, "ring opening", ring->primitive->shape.arc_radius, "rod radius",
-                r.shape.radius, rod->label);
+      too_small(ring->label,
+                "ring opening",
+                ring->primitive->shape.arc_radius,
+                "rod radius",
+                r.shape.radius,
+                rod->label);
     }
   } else if (is_pair(pa.type, pb.type, PT::kRod, PT::kClip)) {
     auto [rod, clip] = ordered(PT::kRod);
     const double d = 2 * rod->primitive->shape.radius;
     if (!(d < clip->primitive->shape.open_gap)) {
-      too_small(clip->label, "clip opening", clip->primitive->shape.open_gap, "rod diameter", d,
+      too_small(clip->label,
+                "clip opening",
+                clip->primitive->shape.open_gap,
+                "rod diameter",
+                d,
                 rod->label);
     }
   } else if (is_pair(pa.type, pb.type, PT::kRod, PT::kTube)) {
@@ -242,19 +268,23 @@ bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagn
     const Primitive& t = *tube->primitive;
     if (rod->primitive->closed_for_connect()) must_be_open(*rod, *tube);
     if (!(rod->primitive->shape.radius < t.shape.inner_radius)) {
-      too_small(tube->label, "tube inner radius", t.shape.inner_radius, "rod radius",
-                rod->primitive->shape.radius, rod->label);
+      too_small(tube->label,
+                "tube inner radius",
+                t.shape.inner_radius,
+                "rod radius",
+                rod->primitive->shape.radius,
+                rod->label);
     }
     if (!(avail(*rod) > t.shape.length)) no_space(*rod, t.shape.length, *tube, "its length");
   } else if (pa.type == PT::kHook && pb.type == PT::kHook) {
     if (pa.closed_for_connect() && pb.closed_for_connect()) both_closed(a, b);
     if (!(pa.shape.thickness < pb.shape.arc_radius)) {
-      too_small(b.label, "hook opening", pb.shape.arc_radius, "wire radius", pa.shape.thickness,
-                a.label);
+      too_small(
+          b.label, "hook opening", pb.shape.arc_radius, "wire radius", pa.shape.thickness, a.label);
     }
     if (!(pb.shape.thickness < pa.shape.arc_radius)) {
-      too_small(a.label, "hook opening", pa.shape.arc_radius, "wire radius", pb.shape.thickness,
-                b.label);
+      too_small(
+          a.label, "hook opening", pa.shape.arc_radius, "wire radius", pb.shape.thickness, b.label);
     }
   } else if (is_pair(pa.type, pb.type, PT::kHook, PT::kRing)) {
     auto [hook, ring] = ordered(PT::kHook);
@@ -262,12 +292,20 @@ bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagn
     const Primitive& g = *ring->primitive;
     if (h.closed_for_connect()) both_closed(*hook, *ring);
     if (!(h.shape.thickness < g.shape.arc_radius)) {
-      too_small(ring->label, "ring opening", g.shape.arc_radius, "hook wire radius",
-                h.shape.thickness, hook->label);
+      too_small(ring->label,
+                "ring opening",
+                g.shape.arc_radius,
+                "hook wire radius",
+                h.shape.thickness,
+                hook->label);
     }
     if (!(g.shape.thickness < h.shape.arc_radius)) {
-      too_small(hook->label, "hook opening", h.shape.arc_radius, "ring wire radius",
-                g.shape.thickness, ring->label);
+      too_small(hook->label,
+                "hook opening",
+                h.shape.arc_radius,
+                "ring wire radius",
+                g.shape.thickness,
+                ring->label);
     }
   } else if (is_pair(pa.type, pb.type, PT::kHook, PT::kTube)) {
     auto [hook, tube] = ordered(PT::kHook);
@@ -276,8 +314,8 @@ bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagn
     if (t.closed_for_connect() && h.closed_for_connect()) both_closed(*hook, *tube);
     const double outer = t.shape.inner_radius + t.shape.thickness;
     if (!(h.shape.arc_radius > outer)) {
-      too_small(hook->label, "hook opening", h.shape.arc_radius, "tube outer radius", outer,
-                tube->label);
+      too_small(
+          hook->label, "hook opening", h.shape.arc_radius, "tube outer radius", outer, tube->label);
     }
     if (!(avail(*tube) > 2 * h.shape.thickness)) {
       no_space(*tube, 2 * h.shape.thickness, *hook, "twice its wire radius");
@@ -288,16 +326,24 @@ bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagn
     const double outer = t.shape.inner_radius + t.shape.thickness;
     if (t.closed_for_connect()) must_be_open(*tube, *ring);
     if (!(ring->primitive->shape.arc_radius > outer)) {
-      too_small(ring->label, "ring opening", ring->primitive->shape.arc_radius,
-                "tube outer radius", outer, tube->label);
+      too_small(ring->label,
+                "ring opening",
+                ring->primitive->shape.arc_radius,
+                "tube outer radius",
+                outer,
+                tube->label);
     }
   } else if (is_pair(pa.type, pb.type, PT::kClip, PT::kTube)) {
     auto [clip, tube] = ordered(PT::kClip);
     const Primitive& t = *tube->primitive;
     const double outer = t.shape.inner_radius + t.shape.thickness;
     if (!(clip->primitive->shape.open_gap > outer)) {
-      too_small(clip->label, "clip opening", clip->primitive->shape.open_gap, "tube outer radius",
-                outer, tube->label);
+      too_small(clip->label,
+                "clip opening",
+                clip->primitive->shape.open_gap,
+                "tube outer radius",
+                outer,
+                tube->label);
     }
     if (!(avail(*tube) > clip->primitive->shape.width)) {
       no_space(*tube, clip->primitive->shape.width, *clip, "its jaw width");
@@ -305,8 +351,12 @@ bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagn
   } else if (is_pair(pa.type, pb.type, PT::kClip, PT::kEdge)) {
     auto [clip, edge] = ordered(PT::kClip);
     if (!(clip->primitive->shape.open_gap > edge->primitive->shape.height)) {
-      too_small(clip->label, "clip opening", clip->primitive->shape.open_gap, "edge thickness",
-                edge->primitive->shape.height, edge->label);
+      too_small(clip->label,
+                "clip opening",
+                clip->primitive->shape.open_gap,
+                "edge thickness",
+                edge->primitive->shape.height,
+                edge->label);
     }
     if (!(avail(*edge) > clip->primitive->shape.width)) {
       no_space(*edge, clip->primitive->shape.width, *clip, "its jaw width");
@@ -382,7 +432,8 @@ bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagn
   return diags.size() == before;
 }
 
-std::vector<double> consume_critical_dim(const Primitive& self, std::vector<double> available,
+std::vector<double> consume_critical_dim(const Primitive& self,
+                                         std::vector<double> available,
                                          const Primitive& other,
                                          const std::vector<double>& other_available) {
   if (available.empty()) return available;

@@ -32,8 +32,8 @@ inline std::optional<Vec3> free_rotation_axis(const Assembly& a, ConnectionId id
 }
 
 template <class T>
-void closure_residuals(const Assembly& a, ConnectionId id, const std::optional<Vec3>& free_axis,
-                       const T* x, T* out) {
+void closure_residuals(
+    const Assembly& a, ConnectionId id, const std::optional<Vec3>& free_axis, const T* x, T* out) {
   const auto [f1, f2] = a.connection_frames<T>(id, x);
   for (int i = 0; i < 3; ++i) out[i] = f1.t[i] - f2.t[i];
   if (free_axis) {

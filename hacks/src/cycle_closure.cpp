@@ -2,15 +2,14 @@
 #include "cycle_closure.h"
 
 #include <ceres/ceres.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <set>
-
-#include <fmt/format.h>
 
 #include "constraints.h"
 
@@ -240,7 +239,8 @@ std::vector<ClosureGap> closure_gaps(const Assembly& assembly, const std::vector
   return out;
 }
 
-ClosureResult close_cycles(const Assembly& assembly, const std::vector<double>& x0,
+ClosureResult close_cycles(const Assembly& assembly,
+                           const std::vector<double>& x0,
                            const VerifyOptions& options) {
   const Layout layout = make_layout(assembly);
   ClosureResult result;
@@ -308,8 +308,12 @@ ClosureResult close_cycles(const Assembly& assembly, const std::vector<double>& 
     ceres::Solve(solver_options, &problem, &summary);
     functor->rotation_weight = 1.0;
     if (std::getenv("FABKIT_DEBUG_CLOSURE")) {
-      std::fprintf(stderr, "  weight %g: cost %.3g after %zu iterations (%s)\n", rotation_weight,
-                   2 * summary.final_cost, summary.iterations.size(), summary.message.c_str());
+      std::fprintf(stderr,
+                   "  weight %g: cost %.3g after %zu iterations (%s)\n",
+                   rotation_weight,
+                   2 * summary.final_cost,
+                   summary.iterations.size(),
+                   summary.message.c_str());
     }
     return 2 * summary.final_cost;
   };

@@ -11,15 +11,16 @@ namespace fabkit::hacks::detail {
 
 struct ClosureResult {
   bool closed = false;
-  double cost = 0;          ///< Σ‖f‖² (mm², deg²) plus multi-connection penalties (mm²)
-  std::vector<double> x;    ///< best parameter vector found
+  double cost = 0;        ///< Σ‖f‖² (mm², deg²) plus multi-connection penalties (mm²)
+  std::vector<double> x;  ///< best parameter vector found
   int starts = 0;
 };
 
 /// Searches parameters that close every cycle-closing connection of `assembly` and keep
 /// multiply-connected primitives' connections apart, starting from `x0`, then from
 /// options.restarts - 1 seeded random points; stops at the first success.
-ClosureResult close_cycles(const Assembly& assembly, const std::vector<double>& x0,
+ClosureResult close_cycles(const Assembly& assembly,
+                           const std::vector<double>& x0,
                            const VerifyOptions& options);
 
 /// Σ‖f‖² of the closure residuals and multi-connection penalties at `x`.

@@ -1,13 +1,12 @@
 #include "fabkit/hacks/design_file.h"
 
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
-
-#include <fmt/format.h>
 
 namespace fabkit::hacks {
 namespace {
@@ -47,9 +46,13 @@ std::string did_you_mean(std::string_view name, const std::vector<std::string>& 
 // Reads one file's YAML into the design, collecting diagnostics with file:line.
 class Reader {
  public:
-  Reader(std::string file, const PartsLibrary& library, const DesignOptions& options,
+  Reader(std::string file,
+         const PartsLibrary& library,
+         const DesignOptions& options,
          std::filesystem::path base_dir)
-      : file_(std::move(file)), library_(library), options_(options),
+      : file_(std::move(file)),
+        library_(library),
+        options_(options),
         base_dir_(std::move(base_dir)) {}
 
   void run(std::string_view text, Design& design) {
@@ -63,7 +66,8 @@ class Reader {
     try {
       root = YAML::Load(std::string(text));
     } catch (const YAML::ParserException& e) {
-      error(DiagnosticCode::kMalformedInput, fmt::format("YAML syntax error: {}", e.msg),
+      error(DiagnosticCode::kMalformedInput,
+            fmt::format("YAML syntax error: {}", e.msg),
             loc(e.mark));
       return;
     }
@@ -74,7 +78,13 @@ class Reader {
       return;
     }
     check_keys(root,
-               {"fabkit", "name", "description", "part_files", "environment", "parts", "target",
+               {"fabkit",
+                "name",
+                "description",
+                "part_files",
+                "environment",
+                "parts",
+                "target",
                 "connections"});
     if (auto tag = root["fabkit"]) {
       const std::string t = scalar(tag, "fabkit");
@@ -91,7 +101,8 @@ class Reader {
     const PartsLibrary* lib = &library_;
     if (auto files = root["part_files"]) {
       if (!files.IsSequence()) {
-        error(DiagnosticCode::kMalformedInput, "part_files must be a list of file names", at(files));
+        error(
+            DiagnosticCode::kMalformedInput, "part_files must be a list of file names", at(files));
       } else {
         for (const auto& f : files) {
           const std::filesystem::path p = base_dir_ / scalar(f, "part file");
@@ -197,9 +208,8 @@ class Reader {
       step.where = tdecl.where;
       step.text = fmt::format("end_with {} at {}", tdecl.label, tdecl.frame.to_string());
       Diagnostics d = tdecl.primitive >= 0
-                          ? design.assembly.end_with(PrimitiveRef(tdecl.part, tdecl.primitive),
-                                                     tdecl.frame,
-                                                     tdecl.where)
+                          ? design.assembly.end_with(
+                                PrimitiveRef(tdecl.part, tdecl.primitive), tdecl.frame, tdecl.where)
                           : design.assembly.end_with(tdecl.part, tdecl.frame, tdecl.where);
       step.accepted = !d.has_errors();
       step.report.accepted = step.accepted;
@@ -264,8 +274,8 @@ class Reader {
         std::string list;
         for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
         error(DiagnosticCode::kUnknownName,
-              fmt::format("unknown key '{}'{} (expected one of: {})", key, did_you_mean(key, names),
-                          list),
+              fmt::format(
+                  "unknown key '{}'{} (expected one of: {})", key, did_you_mean(key, names), list),
               at(kv.first));
       }
     }
@@ -289,11 +299,13 @@ class Reader {
       v = n.as<double>();
     } catch (const YAML::Exception&) {
       error(DiagnosticCode::kMalformedInput,
-            fmt::format("{} must be a number, not '{}'", what, n.Scalar()), at(n));
+            fmt::format("{} must be a number, not '{}'", what, n.Scalar()),
+            at(n));
       return std::nullopt;
     }
     if (!std::isfinite(v)) {
-      error(DiagnosticCode::kInvalidValue, fmt::format("{} is {}, not a finite number", what, n.Scalar()),
+      error(DiagnosticCode::kInvalidValue,
+            fmt::format("{} is {}, not a finite number", what, n.Scalar()),
             at(n));
       return std::nullopt;
     }
@@ -309,11 +321,14 @@ class Reader {
     return std::nullopt;
   }
 
-  std::optional<Vec3> vec3(const YAML::Node& n, std::string_view what, double limit,
+  std::optional<Vec3> vec3(const YAML::Node& n,
+                           std::string_view what,
+                           double limit,
                            std::string_view unit) {
     if (!n.IsSequence() || n.size() != 3) {
       error(DiagnosticCode::kMalformedInput,
-            fmt::format("{} must be a list of three numbers [x, y, z]", what), at(n));
+            fmt::format("{} must be a list of three numbers [x, y, z]", what),
+            at(n));
       return std::nullopt;
     }
     Vec3 v;
@@ -322,8 +337,8 @@ class Reader {
       if (!x) return std::nullopt;
       if (std::abs(*x) > limit) {
         error(DiagnosticCode::kInvalidValue,
-              fmt::format("{} value {:g} {} is absurd (more than {:g} {})", what, *x, unit, limit,
-                          unit),
+              fmt::format(
+                  "{} value {:g} {} is absurd (more than {:g} {})", what, *x, unit, limit, unit),
               at(n[i]));
         return std::nullopt;
       }
@@ -337,7 +352,8 @@ class Reader {
     if (!n) return f;
     if (!n.IsMap()) {
       error(DiagnosticCode::kMalformedInput,
-            fmt::format("{} must be a mapping {{pos: [x, y, z], rot: [a, b, c]}}", what), at(n));
+            fmt::format("{} must be a mapping {{pos: [x, y, z], rot: [a, b, c]}}", what),
+            at(n));
       return f;
     }
     check_keys(n, {"pos", "rot"});
@@ -350,12 +366,14 @@ class Reader {
     return f;
   }
 
-  std::shared_ptr<Part> make_part(const YAML::Node& n, const PartsLibrary& lib,
+  std::shared_ptr<Part> make_part(const YAML::Node& n,
+                                  const PartsLibrary& lib,
                                   const std::string& name) {
     if (auto prims = n["primitives"]) {
       if (n["part"]) {
         error(DiagnosticCode::kMalformedInput,
-              fmt::format("{}: give either 'part' or 'primitives', not both", name), at(n));
+              fmt::format("{}: give either 'part' or 'primitives', not both", name),
+              at(n));
         return nullptr;
       }
       return make_primitives(prims, name);
@@ -363,7 +381,8 @@ class Reader {
     auto type = n["part"];
     if (!type) {
       error(DiagnosticCode::kMalformedInput,
-            fmt::format("{}: missing 'part' (a library part name) or 'primitives'", name), at(n));
+            fmt::format("{}: missing 'part' (a library part name) or 'primitives'", name),
+            at(n));
       return nullptr;
     }
     ParamValues values;
@@ -398,7 +417,8 @@ class Reader {
       const YAML::Node& spec = kv.second;
       if (!spec.IsMap() || !spec["type"]) {
         error(DiagnosticCode::kMalformedInput,
-              fmt::format("{}.{}: a primitive needs a 'type'", name, pname), at(kv.first));
+              fmt::format("{}.{}: a primitive needs a 'type'", name, pname),
+              at(kv.first));
         continue;
       }
       const std::string tname = scalar(spec["type"], "type");
@@ -414,15 +434,19 @@ class Reader {
         continue;
       }
       std::vector<std::string_view> fields = shape_field_names(*type);
-      std::vector<std::string> allowed{"type", "frame", "flex", "centerline", "is_open",
-                                       "open_for_connect"};
+      std::vector<std::string> allowed{
+          "type", "frame", "flex", "centerline", "is_open", "open_for_connect"};
       for (auto f : fields) allowed.emplace_back(f);
       PrimitiveShape shape;
       for (const auto& field : spec) {
         const std::string key = scalar(field.first, "key");
         if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
           error(DiagnosticCode::kUnknownName,
-                fmt::format("{}.{}: '{}' is not a {} parameter{}", name, pname, key, tname,
+                fmt::format("{}.{}: '{}' is not a {} parameter{}",
+                            name,
+                            pname,
+                            key,
+                            tname,
                             did_you_mean(key, allowed)),
                 at(field.first));
         }
@@ -437,7 +461,8 @@ class Reader {
           }
         } else {
           error(DiagnosticCode::kMalformedInput,
-                fmt::format("{}.{}: a {} needs '{}'", name, pname, tname, f), at(spec));
+                fmt::format("{}.{}: a {} needs '{}'", name, pname, tname, f),
+                at(spec));
           complete = false;
         }
       }
@@ -464,13 +489,15 @@ class Reader {
     return std::make_shared<Part>(make_primitive_part(std::move(list)));
   }
 
-  void declare_name(const std::string& name, const YAML::Node& where_node, Design& design,
+  void declare_name(const std::string& name,
+                    const YAML::Node& where_node,
+                    Design& design,
                     std::shared_ptr<Part> part) {
     if (name.empty()) return;
     if (design.parts.count(name)) {
       error(DiagnosticCode::kDuplicateName,
-            fmt::format("the name '{}' is used twice (first on line {})", name,
-                        declared_at_[name].line),
+            fmt::format(
+                "the name '{}' is used twice (first on line {})", name, declared_at_[name].line),
             at(where_node));
       return;
     }
@@ -487,19 +514,23 @@ class Reader {
     auto name = n["name"];
     if (!name) {
       error(DiagnosticCode::kMalformedInput,
-            fmt::format("each {} entry needs a 'name' to refer to it in connections", what), at(n));
+            fmt::format("each {} entry needs a 'name' to refer to it in connections", what),
+            at(n));
       return "";
     }
     const std::string s = scalar(name, "name");
     if (s.empty() || s.find('.') != std::string::npos) {
       error(DiagnosticCode::kMalformedInput,
-            fmt::format("name '{}' must be non-empty and contain no '.'", s), at(name));
+            fmt::format("name '{}' must be non-empty and contain no '.'", s),
+            at(name));
       return "";
     }
     return s;
   }
 
-  void declare_environment(const YAML::Node& n, const PartsLibrary& lib, Design& design,
+  void declare_environment(const YAML::Node& n,
+                           const PartsLibrary& lib,
+                           Design& design,
                            std::vector<EnvDecl>& out) {
     if (!n.IsMap()) {
       error(DiagnosticCode::kMalformedInput, "an environment entry must be a mapping", at(n));
@@ -516,7 +547,8 @@ class Reader {
   void declare_part(const YAML::Node& n, const PartsLibrary& lib, Design& design, bool is_target) {
     if (!n.IsMap()) {
       error(DiagnosticCode::kMalformedInput,
-            is_target ? "target must be a mapping" : "a parts entry must be a mapping", at(n));
+            is_target ? "target must be a mapping" : "a parts entry must be a mapping",
+            at(n));
       return;
     }
     if (is_target) {
@@ -531,7 +563,9 @@ class Reader {
     declare_name(name, n, design, make_part(n, lib, name));
   }
 
-  std::optional<PrimitiveRef> resolve(const YAML::Node& n, Design& design, std::string& text,
+  std::optional<PrimitiveRef> resolve(const YAML::Node& n,
+                                      Design& design,
+                                      std::string& text,
                                       std::string& part_name) {
     text = scalar(n, "primitive reference");
     const auto dot = text.find('.');
@@ -548,8 +582,8 @@ class Reader {
       std::vector<std::string> names;
       for (const auto& kv : design.parts) names.push_back(kv.first);
       error(DiagnosticCode::kUnknownName,
-            fmt::format("no part named '{}' in this design{}", part_name,
-                        did_you_mean(part_name, names)),
+            fmt::format(
+                "no part named '{}' in this design{}", part_name, did_you_mean(part_name, names)),
             at(n));
       return std::nullopt;
     }
@@ -559,8 +593,11 @@ class Reader {
       std::vector<std::string> names;
       for (const auto& p : it->second->primitives) names.push_back(p.name);
       error(DiagnosticCode::kUnknownPrimitive,
-            fmt::format("{} ({}) has no primitive '{}' (it has {}){}", part_name,
-                        it->second->type_name, prim, it->second->primitive_list(),
+            fmt::format("{} ({}) has no primitive '{}' (it has {}){}",
+                        part_name,
+                        it->second->type_name,
+                        prim,
+                        it->second->primitive_list(),
                         did_you_mean(prim, names)),
             at(n));
       return std::nullopt;
@@ -579,7 +616,8 @@ class Reader {
     auto pair = n["connect"];
     if (!pair || !pair.IsSequence() || pair.size() != 2) {
       error(DiagnosticCode::kMalformedInput,
-            "a connection needs 'connect: [part.primitive, part.primitive]'", at(pair ? pair : n));
+            "a connection needs 'connect: [part.primitive, part.primitive]'",
+            at(pair ? pair : n));
       return;
     }
     ConnectDecl d;
@@ -594,7 +632,8 @@ class Reader {
         d.options.alignment = *choice;
       } else {
         error(DiagnosticCode::kUnknownName,
-              fmt::format("alignment must be 'default' or 'flip', not '{}'", s), at(al));
+              fmt::format("alignment must be 'default' or 'flip', not '{}'", s),
+              at(al));
       }
     }
     if (auto f = n["fixed"]) {
@@ -613,8 +652,7 @@ class Reader {
     auto it = design.parts.find(name);
     if (it == design.parts.end()) {
       error(DiagnosticCode::kUnknownName,
-            fmt::format("target '{}' is neither declared here (give 'part') nor under parts",
-                        name),
+            fmt::format("target '{}' is neither declared here (give 'part') nor under parts", name),
             at(n));
       return t;
     }
@@ -632,8 +670,11 @@ class Reader {
       t.primitive = t.part->find_primitive(pname);
       if (t.primitive < 0) {
         error(DiagnosticCode::kUnknownPrimitive,
-              fmt::format("target {} ({}) has no primitive '{}' (it has {})", name,
-                          t.part->type_name, pname, t.part->primitive_list()),
+              fmt::format("target {} ({}) has no primitive '{}' (it has {})",
+                          name,
+                          t.part->type_name,
+                          pname,
+                          t.part->primitive_list()),
               at(p));
         t.part = nullptr;
       } else {
@@ -668,8 +709,10 @@ bool is_input_error(const Diagnostic& d) {
   }
 }
 
-Design load_design_text(std::string_view yaml, std::string_view display_name,
-                        const PartsLibrary& library, const DesignOptions& options,
+Design load_design_text(std::string_view yaml,
+                        std::string_view display_name,
+                        const PartsLibrary& library,
+                        const DesignOptions& options,
                         const std::filesystem::path& base_dir) {
   Design design;
   Reader reader(std::string(display_name), library, options, base_dir);
@@ -677,7 +720,8 @@ Design load_design_text(std::string_view yaml, std::string_view display_name,
   return design;
 }
 
-Design load_design(const std::filesystem::path& path, const PartsLibrary& library,
+Design load_design(const std::filesystem::path& path,
+                   const PartsLibrary& library,
                    const DesignOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {

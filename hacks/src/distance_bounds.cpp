@@ -1,10 +1,10 @@
 #include "distance_bounds.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <fmt/format.h>
 
 namespace fabkit::hacks::detail {
 namespace {
@@ -12,10 +12,10 @@ namespace {
 struct PointSet {
   const Primitive* primitive = nullptr;
   std::vector<ParamSpec> specs;
-  std::vector<int> moving;               // parameters that move the connector point
-  std::vector<std::vector<double>> q;    // parameters of each sample
-  std::vector<Vec3> points;              // connector origins in part coordinates
-  double margin = 0;  // every reachable point lies within `margin` of some sample
+  std::vector<int> moving;             // parameters that move the connector point
+  std::vector<std::vector<double>> q;  // parameters of each sample
+  std::vector<Vec3> points;            // connector origins in part coordinates
+  double margin = 0;                   // every reachable point lies within `margin` of some sample
 };
 
 Vec3 connector_position(const Primitive& p, const std::vector<double>& q) {
@@ -86,13 +86,18 @@ PointSet sample_connector_points(const Primitive& p) {
 
 // Compass search from the best sample pair: sharpens the extreme distance so messages quote
 // the real number; the sampling margin still guards the reject decision.
-double refine_extreme(const PointSet& a, const Mat4& fa, std::vector<double> qa, const PointSet& b,
-                      const Mat4& fb, std::vector<double> qb, double sign) {
+double refine_extreme(const PointSet& a,
+                      const Mat4& fa,
+                      std::vector<double> qa,
+                      const PointSet& b,
+                      const Mat4& fb,
+                      std::vector<double> qb,
+                      double sign) {
   auto dist = [&](const std::vector<double>& x, const std::vector<double>& y) {
-    const Vec3 u = fa.topLeftCorner<3, 3>() * connector_position(*a.primitive, x) +
-                   fa.topRightCorner<3, 1>();
-    const Vec3 v = fb.topLeftCorner<3, 3>() * connector_position(*b.primitive, y) +
-                   fb.topRightCorner<3, 1>();
+    const Vec3 u =
+        fa.topLeftCorner<3, 3>() * connector_position(*a.primitive, x) + fa.topRightCorner<3, 1>();
+    const Vec3 v =
+        fb.topLeftCorner<3, 3>() * connector_position(*b.primitive, y) + fb.topRightCorner<3, 1>();
     return sign * (u - v).norm();
   };
   struct Var {
@@ -101,8 +106,10 @@ double refine_extreme(const PointSet& a, const Mat4& fa, std::vector<double> qa,
     std::size_t index;
   };
   std::vector<Var> vars;
-  for (int i : a.moving) vars.push_back({&qa, &a.specs[static_cast<std::size_t>(i)], static_cast<std::size_t>(i)});
-  for (int i : b.moving) vars.push_back({&qb, &b.specs[static_cast<std::size_t>(i)], static_cast<std::size_t>(i)});
+  for (int i : a.moving)
+    vars.push_back({&qa, &a.specs[static_cast<std::size_t>(i)], static_cast<std::size_t>(i)});
+  for (int i : b.moving)
+    vars.push_back({&qb, &b.specs[static_cast<std::size_t>(i)], static_cast<std::size_t>(i)});
   double best = dist(qa, qb);
   std::vector<double> step;
   for (const Var& v : vars) {
@@ -141,8 +148,10 @@ double refine_extreme(const PointSet& a, const Mat4& fa, std::vector<double> qa,
 
 }  // namespace
 
-DistanceRange connector_distance_range(const Primitive& a, const Mat4& frame_a,
-                                       const Primitive& b, const Mat4& frame_b,
+DistanceRange connector_distance_range(const Primitive& a,
+                                       const Mat4& frame_a,
+                                       const Primitive& b,
+                                       const Mat4& frame_b,
                                        bool same_point_set) {
   const PointSet sa = sample_connector_points(a);
   const PointSet sb = same_point_set ? sa : sample_connector_points(b);
@@ -205,9 +214,8 @@ PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closin
     if (pa == pb) {
       seg.description = fmt::format("across {}", assembly.label(part, pa));
     } else {
-      seg.description = fmt::format("between {} and {}",
-                                    assembly.label(part, pa),
-                                    assembly.label(part, pb));
+      seg.description =
+          fmt::format("between {} and {}", assembly.label(part, pa), assembly.label(part, pb));
     }
     seg.range = connector_distance_range(body.primitives[static_cast<std::size_t>(pa)],
                                          identity,

@@ -20,8 +20,10 @@ struct DistanceRange {
 /// Distance range between connector points of primitive `a` placed by `frame_a` and
 /// primitive `b` placed by `frame_b` (both rigidly in the same body or both fixed). When
 /// `same_point_set` is true (a and b are the same primitive), lo is 0.
-DistanceRange connector_distance_range(const Primitive& a, const Mat4& frame_a,
-                                       const Primitive& b, const Mat4& frame_b,
+DistanceRange connector_distance_range(const Primitive& a,
+                                       const Mat4& frame_a,
+                                       const Primitive& b,
+                                       const Mat4& frame_b,
                                        bool same_point_set);
 
 /// One rigid piece of a cycle and the distance its two connection points can span.
@@ -32,8 +34,8 @@ struct CycleSegment {
 
 struct PolygonVerdict {
   bool feasible = true;
-  int failing = -1;           ///< segment whose minimum exceeds what the others span
-  double others_span = 0;     ///< Σ hi of the other segments
+  int failing = -1;        ///< segment whose minimum exceeds what the others span
+  double others_span = 0;  ///< Σ hi of the other segments
   std::vector<CycleSegment> segments;
 };
 

@@ -1,10 +1,10 @@
 #include "fabkit/hacks/primitive.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-
-#include <fmt/format.h>
 
 namespace fabkit::hacks {
 namespace {
@@ -124,7 +124,8 @@ std::string_view to_string(ParamTag t) {
 }
 
 std::optional<ParamTag> param_tag_from_string(std::string_view s) {
-  for (ParamTag t : {ParamTag::kUnbounded, ParamTag::kBoundedAndClamped, ParamTag::kBoundedAndOpen}) {
+  for (ParamTag t :
+       {ParamTag::kUnbounded, ParamTag::kBoundedAndClamped, ParamTag::kBoundedAndOpen}) {
     if (to_string(t) == s) return t;
   }
   return std::nullopt;
@@ -170,7 +171,9 @@ double shape_field_value(const PrimitiveShape& s, std::string_view name) {
   return *shape_field(const_cast<PrimitiveShape&>(s), name);
 }
 
-Primitive Primitive::make(std::string name, PrimitiveType type, const PrimitiveShape& shape,
+Primitive Primitive::make(std::string name,
+                          PrimitiveType type,
+                          const PrimitiveShape& shape,
                           const Frame& frame) {
   Primitive p;
   p.name = std::move(name);
@@ -336,7 +339,8 @@ std::string Primitive::describe() const {
   return fmt::format("{} ({}{})", to_string(type), fields, variant);
 }
 
-void Primitive::validate(std::string_view who, Diagnostics& diags,
+void Primitive::validate(std::string_view who,
+                         Diagnostics& diags,
                          const SourceLocation& where) const {
   for (std::string_view f : shape_field_names(type)) {
     const double v = shape_field_value(shape, f);
@@ -351,10 +355,9 @@ void Primitive::validate(std::string_view who, Diagnostics& diags,
                     where);
       }
     } else if (v <= 0) {
-      diags.error(
-          DiagnosticCode::kInvalidValue,
-          fmt::format("{}: {} {} {:g} mm must be positive", who, to_string(type), f, v),
-          where);
+      diags.error(DiagnosticCode::kInvalidValue,
+                  fmt::format("{}: {} {} {:g} mm must be positive", who, to_string(type), f, v),
+                  where);
     } else if (v > kMaxSizeMm) {
       diags.error(DiagnosticCode::kInvalidValue,
                   fmt::format("{}: {} {} {:g} mm is absurd (more than {:g} m); sizes are in mm",
@@ -368,13 +371,14 @@ void Primitive::validate(std::string_view who, Diagnostics& diags,
   }
   if ((type == PrimitiveType::kHook || type == PrimitiveType::kRing) &&
       shape.thickness >= shape.arc_radius && shape.thickness > 0) {
-    diags.error(DiagnosticCode::kInvalidValue,
-                fmt::format("{}: {} wire radius {:g} mm must be smaller than its arc radius {:g} mm",
-                            who,
-                            to_string(type),
-                            shape.thickness,
-                            shape.arc_radius),
-                where);
+    diags.error(
+        DiagnosticCode::kInvalidValue,
+        fmt::format("{}: {} wire radius {:g} mm must be smaller than its arc radius {:g} mm",
+                    who,
+                    to_string(type),
+                    shape.thickness,
+                    shape.arc_radius),
+        where);
   }
   for (int i = 0; i < 3; ++i) {
     if (!std::isfinite(frame.pos[i]) || !std::isfinite(frame.rot[i])) {
@@ -385,14 +389,13 @@ void Primitive::validate(std::string_view who, Diagnostics& diags,
     }
   }
   for (const auto& range : {theta_range, phi_range}) {
-    if (range && (!std::isfinite((*range)[0]) || !std::isfinite((*range)[1]) ||
-                  (*range)[0] > (*range)[1])) {
-      diags.error(DiagnosticCode::kInvalidValue,
-                  fmt::format("{}: angle range [{:g}, {:g}] is not an interval",
-                              who,
-                              (*range)[0],
-                              (*range)[1]),
-                  where);
+    if (range &&
+        (!std::isfinite((*range)[0]) || !std::isfinite((*range)[1]) || (*range)[0] > (*range)[1])) {
+      diags.error(
+          DiagnosticCode::kInvalidValue,
+          fmt::format(
+              "{}: angle range [{:g}, {:g}] is not an interval", who, (*range)[0], (*range)[1]),
+          where);
     }
   }
 }

@@ -11,9 +11,11 @@ using testing::make_part;
 using testing::rod_environment;
 
 void expect_frame_near(const Mat4& m, const Vec3& pos, const Vec3& rot, double tol_mm = 1e-4) {
-  EXPECT_NEAR((m.topRightCorner<3, 1>() - pos).norm(), 0.0, tol_mm) << "pos " << m.topRightCorner<3, 1>().transpose();
+  EXPECT_NEAR((m.topRightCorner<3, 1>() - pos).norm(), 0.0, tol_mm)
+      << "pos " << m.topRightCorner<3, 1>().transpose();
   const Mat3 expected = Frame(Vec3::Zero(), rot).matrix().topLeftCorner<3, 3>();
-  EXPECT_LT((m.topLeftCorner<3, 3>() - expected).norm(), 1e-5) << "rot " << Frame::from_matrix(m).rot.transpose();
+  EXPECT_LT((m.topLeftCorner<3, 3>() - expected).norm(), 1e-5)
+      << "rot " << Frame::from_matrix(m).rot.transpose();
 }
 
 // Reference Appendix A: the Demo (paper Fig. 10) propagated at the default parameters.
@@ -27,7 +29,8 @@ TEST(Assembly, DemoMatchesReferenceAtDefaultParameters) {
   ASSERT_TRUE(a.connect({hanger, "hook1"}, {env, "rod"}).accepted);
   ASSERT_TRUE(a.connect({doublehook, "hook1"}, {hanger, "rod"}).accepted);
   ASSERT_TRUE(a.connect({ring, "hook"}, {doublehook, "hook2"}).accepted);
-  ASSERT_TRUE(a.end_with(PrimitiveRef(ring, "hook"), Frame(Vec3(0, 2.1, 142), Vec3(87, 0, 0))).empty());
+  ASSERT_TRUE(
+      a.end_with(PrimitiveRef(ring, "hook"), Frame(Vec3(0, 2.1, 142), Vec3(87, 0, 0))).empty());
 
   struct Expected {
     const char* name;
@@ -66,7 +69,8 @@ TEST(Assembly, DemoMatchesReferenceAtDefaultParameters) {
   // The target primitive and the reference's user objective U at these parameters.
   const Mat4 target = frames[3] * ring->primitives[0].frame.matrix();
   expect_frame_near(target, Vec3(16.404877, 172.325371, 220.774629), Vec3(36, 0, 360));
-  const Vec6 diff = frame_difference(Frame::from_matrix(target), a.target()->frame, Vec3(360, 360, 360));
+  const Vec6 diff =
+      frame_difference(Frame::from_matrix(target), a.target()->frame, Vec3(360, 360, 360));
   EXPECT_NEAR(diff.squaredNorm(), 38052.23917269693, 1e-3);
 
   // The templated, differentiable path agrees with forward propagation.
@@ -101,7 +105,8 @@ TEST(Assembly, ConnectNeedsAnEnvironmentAndAKnownPart) {
   auto dh2 = make_part("DoubleHook");
   Assembly a;
   EXPECT_TRUE(testing::has_diagnostic(a.connect({dh1, "hook1"}, {dh2, "hook1"}).diagnostics,
-                                      DiagnosticCode::kNoEnvironment, "add() one first"));
+                                      DiagnosticCode::kNoEnvironment,
+                                      "add() one first"));
   auto env = rod_environment(5, 500);
   a.add(env, Frame());
   EXPECT_TRUE(testing::has_diagnostic(a.connect({dh1, "hook1"}, {dh2, "hook1"}).diagnostics,
@@ -143,8 +148,9 @@ TEST(Assembly, ConnectDecidesTreeOrCycle) {
   ASSERT_TRUE(r.accepted) << r.diagnostics.format();
   EXPECT_TRUE(r.closes_cycle);
   ASSERT_EQ(r.cycles.size(), 1u);
-  EXPECT_EQ(r.cycles[0], "ClosetRods.rod2 – HookEyeConnector#2 – RoundHandleBasket – "
-                         "HookEyeConnector#1 – ClosetRods.rod1");
+  EXPECT_EQ(r.cycles[0],
+            "ClosetRods.rod2 – HookEyeConnector#2 – RoundHandleBasket – "
+            "HookEyeConnector#1 – ClosetRods.rod1");
   EXPECT_EQ(a.cycle_connections().size(), 1u);
   // The accepted configuration really closes the cycle.
   const auto [f1, f2] = a.connection_frames<double>(r.connection, a.values().data());
@@ -163,9 +169,11 @@ TEST(Assembly, EndWithRecordsThePrimitiveFrame) {
   EXPECT_TRUE(a.end_with(bottle, part_frame).empty());
   ASSERT_TRUE(a.target());
   EXPECT_EQ(a.target()->primitive, 0);
-  EXPECT_LT((a.target()->frame.matrix() - (part_frame * bottle->primitives[0].frame).matrix()).norm(), 1e-9);
-  EXPECT_TRUE(testing::has_diagnostic(a.end_with(env, Frame()), DiagnosticCode::kTargetMissing,
-                                      "is an environment"));
+  EXPECT_LT(
+      (a.target()->frame.matrix() - (part_frame * bottle->primitives[0].frame).matrix()).norm(),
+      1e-9);
+  EXPECT_TRUE(testing::has_diagnostic(
+      a.end_with(env, Frame()), DiagnosticCode::kTargetMissing, "is an environment"));
 }
 
 TEST(Assembly, SingleConnectionPrimitivesHoldOneThing) {
@@ -184,7 +192,8 @@ TEST(Assembly, SingleConnectionPrimitivesHoldOneThing) {
   ASSERT_TRUE(a.connect({brush1, "rod"}, {clip, "clip"}).accepted);
   const ConnectReport r = a.connect({brush2, "rod"}, {clip, "clip"});
   EXPECT_FALSE(r.accepted);
-  EXPECT_TRUE(testing::has_diagnostic(r.diagnostics, DiagnosticCode::kSingleConnection,
+  EXPECT_TRUE(testing::has_diagnostic(r.diagnostics,
+                                      DiagnosticCode::kSingleConnection,
                                       "PlasticClip.clip already holds Toothbrush#1.rod"));
 }
 

@@ -12,14 +12,27 @@ using PT = PrimitiveType;
 
 TEST(ConnectionRules, TableOneExactly) {
   // Paper Table 1 (upper triangle), and nothing else.
-  const std::set<std::pair<PT, PT>> allowed = {
-      {PT::kHook, PT::kHook}, {PT::kHook, PT::kRing},  {PT::kHook, PT::kRod},
-      {PT::kHook, PT::kTube}, {PT::kRing, PT::kRod},   {PT::kRing, PT::kTube},
-      {PT::kHemisphere, PT::kSurface}, {PT::kEdge, PT::kClip}, {PT::kRod, PT::kTube},
-      {PT::kRod, PT::kClip},  {PT::kTube, PT::kTube},  {PT::kTube, PT::kClip},
-      {PT::kSurface, PT::kSurface}};
-  const PT all[] = {PT::kRod, PT::kHook, PT::kRing, PT::kClip, PT::kTube, PT::kEdge,
-                    PT::kSurface, PT::kHemisphere};
+  const std::set<std::pair<PT, PT>> allowed = {{PT::kHook, PT::kHook},
+                                               {PT::kHook, PT::kRing},
+                                               {PT::kHook, PT::kRod},
+                                               {PT::kHook, PT::kTube},
+                                               {PT::kRing, PT::kRod},
+                                               {PT::kRing, PT::kTube},
+                                               {PT::kHemisphere, PT::kSurface},
+                                               {PT::kEdge, PT::kClip},
+                                               {PT::kRod, PT::kTube},
+                                               {PT::kRod, PT::kClip},
+                                               {PT::kTube, PT::kTube},
+                                               {PT::kTube, PT::kClip},
+                                               {PT::kSurface, PT::kSurface}};
+  const PT all[] = {PT::kRod,
+                    PT::kHook,
+                    PT::kRing,
+                    PT::kClip,
+                    PT::kTube,
+                    PT::kEdge,
+                    PT::kSurface,
+                    PT::kHemisphere};
   for (PT a : all) {
     for (PT b : all) {
       const bool expected = allowed.count({a, b}) || allowed.count({b, a});
@@ -34,7 +47,8 @@ TEST(ConnectionRules, AlignmentOffsetsAndFlips) {
   const AlignmentOffset rod_hook = alignment_offset(ConnectorKind::kRod, ConnectorKind::kHookFlex);
   EXPECT_EQ(rod_hook.rotation(AlignmentChoice::kDefault), Vec3(180, 0, 90));
   EXPECT_EQ(rod_hook.rotation(AlignmentChoice::kFlip), Vec3(180, 0, -90));
-  const AlignmentOffset clip_rod = alignment_offset(ConnectorKind::kClip, ConnectorKind::kRodCenterline);
+  const AlignmentOffset clip_rod =
+      alignment_offset(ConnectorKind::kClip, ConnectorKind::kRodCenterline);
   EXPECT_EQ(clip_rod.rotation(AlignmentChoice::kFlip), Vec3(0, 0, 0));
   const AlignmentOffset edge_clip = alignment_offset(ConnectorKind::kEdge, ConnectorKind::kClip);
   EXPECT_EQ(edge_clip.rotation(AlignmentChoice::kFlip), Vec3(0, 90, 90));
@@ -43,8 +57,10 @@ TEST(ConnectionRules, AlignmentOffsetsAndFlips) {
   // Centre-line variants have their own entries; a missing pair aligns with the identity.
   EXPECT_EQ(alignment_offset(ConnectorKind::kRodCenterline, ConnectorKind::kRingCenterline).rot,
             Vec3(0, 0, 90));
-  EXPECT_EQ(alignment_offset(ConnectorKind::kRod, ConnectorKind::kTubeCenterline).rot, Vec3(0, 0, 0));
-  const AlignmentOffset hemi = alignment_offset(ConnectorKind::kSurface, ConnectorKind::kHemisphere);
+  EXPECT_EQ(alignment_offset(ConnectorKind::kRod, ConnectorKind::kTubeCenterline).rot,
+            Vec3(0, 0, 0));
+  const AlignmentOffset hemi =
+      alignment_offset(ConnectorKind::kSurface, ConnectorKind::kHemisphere);
   EXPECT_EQ(hemi.rot, Vec3(0, 0, 0));
   EXPECT_FALSE(hemi.flippable());
 }
@@ -68,8 +84,11 @@ Primitive hook(double r, double th, bool open = true) {
   return p;
 }
 
-std::string check(const Primitive& a, const std::string& la, const Primitive& b,
-                  const std::string& lb, std::vector<double> avail_a = {}) {
+std::string check(const Primitive& a,
+                  const std::string& la,
+                  const Primitive& b,
+                  const std::string& lb,
+                  std::vector<double> avail_a = {}) {
   Diagnostics d;
   PrimitiveInUse ua{&a, la, std::move(avail_a)};
   PrimitiveInUse ub{&b, lb, {}};
@@ -102,7 +121,8 @@ TEST(ConnectionRules, RingNeedsAnOpenRod) {
 }
 
 TEST(ConnectionRules, NoSpaceLeftOnRod) {
-  const std::string msg = check(rod(2.5, 20), "Room.rod2", hook(5.75, 1.5), "Turnbuckle.hook1", {2});
+  const std::string msg =
+      check(rod(2.5, 20), "Room.rod2", hook(5.75, 1.5), "Turnbuckle.hook1", {2});
   EXPECT_NE(msg.find("Room.rod2: only 2.0 mm of its 20.0 mm length is still free, but "
                      "Turnbuckle.hook1 needs 3.0 mm"),
             std::string::npos)

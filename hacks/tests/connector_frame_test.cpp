@@ -61,28 +61,39 @@ PrimitiveShape tube(double ri, double th, double l) {
 }
 
 TEST(ConnectorFrame, RodMatchesReference) {
-  check({"Rod", make(PrimitiveType::kRod, rod(5, 100)), {0.3, 70}, {260, 20, 30},
+  check({"Rod",
+         make(PrimitiveType::kRod, rod(5, 100)),
+         {0.3, 70},
+         {260, 20, 30},
          {{0.813798, -0.204874, -0.543838, -8.775294},
           {0.469846, -0.318796, 0.823173, 6.052254},
           {-0.34202, -0.925417, -0.163176, -14.692452}}});
 }
 
 TEST(ConnectorFrame, RodCenterlineMatchesReference) {
-  check({"RodCtl", make(PrimitiveType::kRod, rod(5, 100), false, true), {0.3}, {280, 20, 30},
+  check({"RodCtl",
+         make(PrimitiveType::kRod, rod(5, 100), false, true),
+         {0.3},
+         {280, 20, 30},
          {{0.813798, -0.378522, -0.44097, -6.570446},
           {0.469846, -0.018028, 0.882564, 1.639434},
           {-0.34202, -0.925417, 0.163176, -15.508332}}});
 }
 
 TEST(ConnectorFrame, HookMatchesReference) {
-  check({"Hook", make(PrimitiveType::kHook, hook(20, 180, 3)), {60}, {310, 20, 30},
+  check({"Hook",
+         make(PrimitiveType::kHook, hook(20, 180, 3)),
+         {60},
+         {310, 20, 30},
          {{0.813798, -0.548295, -0.19263, 4.274705},
           {0.469846, 0.425669, 0.773337, -11.146731},
           {-0.34202, -0.719846, 0.604023, -7.268387}}});
 }
 
 TEST(ConnectorFrame, HookFlexMatchesReference) {
-  check({"HookFlex", make(PrimitiveType::kHook, hook(20, 180, 3), true), {60, 100},
+  check({"HookFlex",
+         make(PrimitiveType::kHook, hook(20, 180, 3), true),
+         {60, 100},
          {312.921409, 27.504875, 37.229423},
          {{0.706224, -0.681279, -0.19263, 4.274705},
           {0.536625, 0.337614, 0.773337, -11.146731},
@@ -90,14 +101,19 @@ TEST(ConnectorFrame, HookFlexMatchesReference) {
 }
 
 TEST(ConnectorFrame, RingMatchesReference) {
-  check({"Ring", make(PrimitiveType::kRing, hook(15, 0, 4)), {200}, {170, 20, 30},
+  check({"Ring",
+         make(PrimitiveType::kRing, hook(15, 0, 4)),
+         {200},
+         {170, 20, 30},
          {{0.813798, 0.543838, -0.204874, 3.253615},
           {0.469846, -0.823173, -0.318796, 5.506754},
           {-0.34202, 0.163176, -0.925417, 13.179582}}});
 }
 
 TEST(ConnectorFrame, RingFlexMatchesReference) {
-  check({"RingFlex", make(PrimitiveType::kRing, hook(15, 0, 4), true), {200, 120},
+  check({"RingFlex",
+         make(PrimitiveType::kRing, hook(15, 0, 4), true),
+         {200, 120},
          {161.350658, 12.392658, 359.72501},
          {{0.976689, 0.064079, -0.204874, 3.253615},
           {-0.004688, -0.947812, -0.318796, 5.506754},
@@ -105,7 +121,9 @@ TEST(ConnectorFrame, RingFlexMatchesReference) {
 }
 
 TEST(ConnectorFrame, RingCenterlineMatchesReference) {
-  check({"RingCtl", make(PrimitiveType::kRing, hook(15, 0, 4), false, true), {30, 250},
+  check({"RingCtl",
+         make(PrimitiveType::kRing, hook(15, 0, 4), false, true),
+         {30, 250},
          {264.511681, 49.367885, 37.66203},
          {{0.515508, -0.53958, -0.665661, 1},
           {0.397885, -0.537282, 0.743651, 2},
@@ -113,7 +131,9 @@ TEST(ConnectorFrame, RingCenterlineMatchesReference) {
 }
 
 TEST(ConnectorFrame, TubeMatchesReference) {
-  check({"Tube", make(PrimitiveType::kTube, tube(8, 2, 200)), {0.7, 45},
+  check({"Tube",
+         make(PrimitiveType::kTube, tube(8, 2, 200)),
+         {0.7, 45},
          {262.218496, 20.930028, 341.792941},
          {{0.887254, -0.378522, 0.263629, 13.5046},
           {-0.291836, -0.018028, 0.956299, -6.841853},
@@ -121,7 +141,9 @@ TEST(ConnectorFrame, TubeMatchesReference) {
 }
 
 TEST(ConnectorFrame, TubeCenterlineMatchesReference) {
-  check({"TubeCtl", make(PrimitiveType::kTube, tube(8, 2, 200), false, true), {0.7, 45},
+  check({"TubeCtl",
+         make(PrimitiveType::kTube, tube(8, 2, 200), false, true),
+         {0.7, 45},
          {262.218496, 20.930028, 341.792941},
          {{0.887254, -0.378522, 0.263629, 14.031858},
           {-0.291836, -0.018028, 0.956299, -4.929256},
@@ -135,7 +157,10 @@ TEST(ConnectorFrame, ClipMatchesReference) {
   s.open_gap = 5;
   s.dist = 3;
   s.thickness = 1;
-  check({"Clip", make(PrimitiveType::kClip, s), {0.25}, {10, 20, 30},
+  check({"Clip",
+         make(PrimitiveType::kClip, s),
+         {0.25},
+         {10, 20, 30},
          {{0.813798, -0.44097, 0.378522, -1.838917},
           {0.469846, 0.882564, 0.018028, 1.864788},
           {-0.34202, 0.163176, 0.925417, -3.940624}}});
@@ -146,7 +171,10 @@ TEST(ConnectorFrame, EdgeMatchesReference) {
   s.width = 100;
   s.length = 200;
   s.height = 2;
-  check({"Edge", make(PrimitiveType::kEdge, s), {0.8}, {10, 20, 30},
+  check({"Edge",
+         make(PrimitiveType::kEdge, s),
+         {0.8},
+         {10, 20, 30},
          {{0.813798, -0.44097, 0.378522, 27.77938},
           {0.469846, 0.882564, 0.018028, 74.318985},
           {-0.34202, 0.163176, 0.925417, -9.362413}}});
@@ -156,7 +184,9 @@ TEST(ConnectorFrame, SurfaceMatchesReference) {
   PrimitiveShape s;
   s.width = 300;
   s.length = 400;
-  check({"Surface", make(PrimitiveType::kSurface, s), {0.2, 0.9, 33},
+  check({"Surface",
+         make(PrimitiveType::kSurface, s),
+         {0.2, 0.9, 33},
          {19.247705, 11.41829, 63.174777},
          {{0.442339, -0.813054, 0.378522, 91.53929},
           {0.874725, 0.484284, 0.018028, 156.607082},
@@ -166,7 +196,9 @@ TEST(ConnectorFrame, SurfaceMatchesReference) {
 TEST(ConnectorFrame, HemisphereMatchesReference) {
   PrimitiveShape s;
   s.radius = 9;
-  check({"Hemisphere", make(PrimitiveType::kHemisphere, s), {150, 200, 40},
+  check({"Hemisphere",
+         make(PrimitiveType::kHemisphere, s),
+         {150, 200, 40},
          {342.586617, 320.229151, 267.211863},
          {{-0.037387, 0.943728, 0.328601, -2.41269},
           {-0.767699, -0.237632, 0.595121, -3.31034},

@@ -43,9 +43,11 @@ TEST(DesignFile, YamlSyntaxErrorHasLine) {
 
 TEST(DesignFile, NotAMapping) {
   EXPECT_TRUE(has_diagnostic(load_text("- just\n- a list\n").diagnostics,
-                             DiagnosticCode::kMalformedInput, "must be a YAML mapping", 1));
-  EXPECT_TRUE(has_diagnostic(load_text("").diagnostics, DiagnosticCode::kMalformedInput,
-                             "must be a YAML mapping"));
+                             DiagnosticCode::kMalformedInput,
+                             "must be a YAML mapping",
+                             1));
+  EXPECT_TRUE(has_diagnostic(
+      load_text("").diagnostics, DiagnosticCode::kMalformedInput, "must be a YAML mapping"));
 }
 
 TEST(DesignFile, UnknownPartWithSuggestion) {
@@ -61,8 +63,10 @@ TEST(DesignFile, UnknownPrimitiveNamesTheAlternatives) {
 connections:
   - connect: [s.hook3, door.rod]
 )");
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kUnknownPrimitive,
-                             "s (DoubleHook) has no primitive 'hook3' (it has hook1, hook2)", 6));
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             DiagnosticCode::kUnknownPrimitive,
+                             "s (DoubleHook) has no primitive 'hook3' (it has hook1, hook2)",
+                             6));
 }
 
 TEST(DesignFile, UnknownPartNameInConnection) {
@@ -71,21 +75,27 @@ TEST(DesignFile, UnknownPartNameInConnection) {
 connections:
   - connect: [shok.hook1, door.rod]
 )");
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kUnknownName,
-                             "no part named 'shok' in this design; did you mean 'shook'?", 6));
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             DiagnosticCode::kUnknownName,
+                             "no part named 'shok' in this design; did you mean 'shook'?",
+                             6));
 }
 
 TEST(DesignFile, NaNNegativeAndAbsurdSizes) {
   const Design nan = load_text(R"(environment:
   - {name: door, primitives: {rod: {type: rod, radius: .nan, length: 500}}}
 )");
-  EXPECT_TRUE(has_diagnostic(nan.diagnostics, DiagnosticCode::kInvalidValue,
-                             "door.rod radius is .nan, not a finite number", 2));
+  EXPECT_TRUE(has_diagnostic(nan.diagnostics,
+                             DiagnosticCode::kInvalidValue,
+                             "door.rod radius is .nan, not a finite number",
+                             2));
   const Design negative = load_text(R"(environment:
   - {name: door, primitives: {rod: {type: rod, radius: -5, length: 500}}}
 )");
-  EXPECT_TRUE(has_diagnostic(negative.diagnostics, DiagnosticCode::kInvalidValue,
-                             "door.rod: rod radius -5 mm must be positive", 2));
+  EXPECT_TRUE(has_diagnostic(negative.diagnostics,
+                             DiagnosticCode::kInvalidValue,
+                             "door.rod: rod radius -5 mm must be positive",
+                             2));
   const Design absurd = load_text(R"(environment:
   - {name: door, primitives: {rod: {type: rod, radius: 5, length: 5e9}}}
 )");
@@ -93,8 +103,8 @@ TEST(DesignFile, NaNNegativeAndAbsurdSizes) {
   const Design far = load_text(R"(environment:
   - {name: door, primitives: {rod: {type: rod, radius: 5, length: 500}}, frame: {pos: [0, 0, 1e12]}}
 )");
-  EXPECT_TRUE(has_diagnostic(far.diagnostics, DiagnosticCode::kInvalidValue,
-                             "door pos value 1e+12 mm is absurd", 2));
+  EXPECT_TRUE(has_diagnostic(
+      far.diagnostics, DiagnosticCode::kInvalidValue, "door pos value 1e+12 mm is absurd", 2));
 }
 
 TEST(DesignFile, BadParametersOfParametricParts) {
@@ -105,35 +115,49 @@ TEST(DesignFile, BadParametersOfParametricParts) {
 )");
   EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kInvalidValue, "extended_length", 4));
   EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kUnknownName, "length", 5));
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kMalformedInput,
-                             "parameter extended_length must be a number, not 'abc'", 6));
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             DiagnosticCode::kMalformedInput,
+                             "parameter extended_length must be a number, not 'abc'",
+                             6));
 }
 
 TEST(DesignFile, StructuralMistakes) {
-  EXPECT_TRUE(has_diagnostic(load_text("parts: []\n").diagnostics, DiagnosticCode::kMalformedInput,
+  EXPECT_TRUE(has_diagnostic(load_text("parts: []\n").diagnostics,
+                             DiagnosticCode::kMalformedInput,
                              "has no 'environment'"));
   EXPECT_TRUE(has_diagnostic(load_text(std::string(kEnv) + "colour: red\n").diagnostics,
-                             DiagnosticCode::kUnknownName, "unknown key 'colour'", 3));
+                             DiagnosticCode::kUnknownName,
+                             "unknown key 'colour'",
+                             3));
   EXPECT_TRUE(has_diagnostic(
       load_text(std::string(kEnv) + "connections:\n  - connect: [door.rod]\n").diagnostics,
-      DiagnosticCode::kMalformedInput, "connect: [part.primitive, part.primitive]", 4));
+      DiagnosticCode::kMalformedInput,
+      "connect: [part.primitive, part.primitive]",
+      4));
   EXPECT_TRUE(has_diagnostic(
       load_text(std::string(kEnv) + "parts:\n  - {name: door, part: DoubleHook}\n").diagnostics,
-      DiagnosticCode::kDuplicateName, "the name 'door' is used twice (first on line 2)", 4));
+      DiagnosticCode::kDuplicateName,
+      "the name 'door' is used twice (first on line 2)",
+      4));
   EXPECT_TRUE(has_diagnostic(
-      load_text(std::string(kEnv) +
-                "parts:\n  - {name: s, part: DoubleHook}\nconnections:\n"
-                "  - {connect: [s.hook1, door.rod], alignment: sideways}\n")
+      load_text(std::string(kEnv) + "parts:\n  - {name: s, part: DoubleHook}\nconnections:\n"
+                                    "  - {connect: [s.hook1, door.rod], alignment: sideways}\n")
           .diagnostics,
-      DiagnosticCode::kUnknownName, "alignment must be 'default' or 'flip', not 'sideways'", 6));
+      DiagnosticCode::kUnknownName,
+      "alignment must be 'default' or 'flip', not 'sideways'",
+      6));
   EXPECT_TRUE(has_diagnostic(
       load_text(std::string(kEnv) + "target: {name: ghost, frame: {pos: [0, 0, 0]}}\n").diagnostics,
-      DiagnosticCode::kUnknownName, "target 'ghost'", 3));
+      DiagnosticCode::kUnknownName,
+      "target 'ghost'",
+      3));
   EXPECT_TRUE(has_diagnostic(
       load_text(std::string(kEnv) + "parts:\n  - {name: s, part: DoubleHook}\nconnections:\n"
                                     "  - {connect: [s.hook1, door.rod], fixed: maybe}\n")
           .diagnostics,
-      DiagnosticCode::kMalformedInput, "fixed must be true or false", 6));
+      DiagnosticCode::kMalformedInput,
+      "fixed must be true or false",
+      6));
 }
 
 TEST(DesignFile, LaterStepsAfterAFailedConnectAreSkippedWithANote) {
@@ -151,8 +175,10 @@ connections:
   ASSERT_TRUE(d.readable);
   EXPECT_TRUE(d.steps[1].accepted);
   EXPECT_FALSE(d.steps[2].accepted);  // neither t nor big is in the assembly
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kNotInAssembly,
-                             "neither t (DoubleHook) nor big (LongTensionRod)", 10));
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             DiagnosticCode::kNotInAssembly,
+                             "neither t (DoubleHook) nor big (LongTensionRod)",
+                             10));
   EXPECT_TRUE(d.steps[3].skipped);  // u and t: t is out because of the step before
   EXPECT_FALSE(d.diagnostics.items()[1].severity == Severity::kError);
   EXPECT_NE(d.diagnostics.items()[1].message.find("skipped connect u.hook1, t.hook2: t is not in "
@@ -165,7 +191,8 @@ connections:
 TEST(DesignFile, UnreadableFile) {
   const Design d = load_design("/nonexistent/dir/design.yaml", PartsLibrary::builtin());
   EXPECT_FALSE(d.readable);
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kUnreadableFile,
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             DiagnosticCode::kUnreadableFile,
                              "cannot open design file '/nonexistent/dir/design.yaml'"));
 }
 

@@ -16,18 +16,27 @@ struct Expectation {
 
 // Part counts include the environment(s) and the target.
 constexpr Expectation kExamples[] = {
-    {"toothbrush_holder", 3, 2},     {"charger_holder", 3, 1},
-    {"soap_bottle_holder", 5, 1},    {"soap_bottle_one_eyehook", 4, 0},
-    {"mug_hanger", 6, 0},            {"paper_towel_holder", 5, 1},
-    {"diaper_caddy", 6, 1},          {"basket_between_rods", 4, 1},
-    {"bird_feeder", 7, 1},           {"demo", 4, 0},
-    {"clip_light_xs", 11, 0},        {"clip_light_s", 11, 0},
-    {"clip_light_m", 9, 0},          {"clip_light_l", 9, 0},
+    {"toothbrush_holder", 3, 2},
+    {"charger_holder", 3, 1},
+    {"soap_bottle_holder", 5, 1},
+    {"soap_bottle_one_eyehook", 4, 0},
+    {"mug_hanger", 6, 0},
+    {"paper_towel_holder", 5, 1},
+    {"diaper_caddy", 6, 1},
+    {"basket_between_rods", 4, 1},
+    {"bird_feeder", 7, 1},
+    {"demo", 4, 0},
+    {"clip_light_xs", 11, 0},
+    {"clip_light_s", 11, 0},
+    {"clip_light_m", 9, 0},
+    {"clip_light_l", 9, 0},
     {"reading_nook", 19, 2},
 };
 
 // Readable test names and failure messages.
-void PrintTo(const Expectation& e, std::ostream* os) { *os << e.name; }
+void PrintTo(const Expectation& e, std::ostream* os) {
+  *os << e.name;
+}
 
 class ExampleTest : public ::testing::TestWithParam<Expectation> {};
 
@@ -43,7 +52,9 @@ TEST_P(ExampleTest, PassesCheck) {
   EXPECT_FALSE(d.name.empty());
 }
 
-INSTANTIATE_TEST_SUITE_P(Gallery, ExampleTest, ::testing::ValuesIn(kExamples),
+INSTANTIATE_TEST_SUITE_P(Gallery,
+                         ExampleTest,
+                         ::testing::ValuesIn(kExamples),
                          [](const ::testing::TestParamInfo<Expectation>& p) {
                            return std::string(p.param.name);
                          });

@@ -13,9 +13,14 @@ PrimitiveShape rod_shape(double r, double l) {
 }
 
 TEST(Primitive, TypeNamesRoundTripAndAcceptPaperSpellings) {
-  for (PrimitiveType t : {PrimitiveType::kRod, PrimitiveType::kHook, PrimitiveType::kRing,
-                          PrimitiveType::kClip, PrimitiveType::kTube, PrimitiveType::kEdge,
-                          PrimitiveType::kSurface, PrimitiveType::kHemisphere}) {
+  for (PrimitiveType t : {PrimitiveType::kRod,
+                          PrimitiveType::kHook,
+                          PrimitiveType::kRing,
+                          PrimitiveType::kClip,
+                          PrimitiveType::kTube,
+                          PrimitiveType::kEdge,
+                          PrimitiveType::kSurface,
+                          PrimitiveType::kHemisphere}) {
     EXPECT_EQ(primitive_type_from_string(to_string(t)), t);
   }
   EXPECT_EQ(primitive_type_from_string("hole"), PrimitiveType::kRing);

@@ -22,7 +22,8 @@ inline std::shared_ptr<Part> rod_environment(double radius, double length) {
   PrimitiveShape s;
   s.radius = radius;
   s.length = length;
-  return std::make_shared<Part>(make_primitive_part({Primitive::make("rod", PrimitiveType::kRod, s)}));
+  return std::make_shared<Part>(
+      make_primitive_part({Primitive::make("rod", PrimitiveType::kRod, s)}));
 }
 
 inline Design load_example(const std::string& name) {
@@ -35,8 +36,10 @@ inline Design load_text(const std::string& yaml) {
 }
 
 /// The first error diagnostic with `code`, or a failure.
-inline ::testing::AssertionResult has_diagnostic(const Diagnostics& ds, DiagnosticCode code,
-                                                 const std::string& fragment, int line = 0) {
+inline ::testing::AssertionResult has_diagnostic(const Diagnostics& ds,
+                                                 DiagnosticCode code,
+                                                 const std::string& fragment,
+                                                 int line = 0) {
   for (const Diagnostic& d : ds) {
     if (d.code != code) continue;
     if (d.message.find(fragment) == std::string::npos) continue;
@@ -46,9 +49,9 @@ inline ::testing::AssertionResult has_diagnostic(const Diagnostics& ds, Diagnost
     }
     return ::testing::AssertionSuccess();
   }
-  return ::testing::AssertionFailure() << "no " << to_string(code) << " diagnostic containing '"
-                                       << fragment << "' in:\n"
-                                       << ds.format();
+  return ::testing::AssertionFailure()
+         << "no " << to_string(code) << " diagnostic containing '" << fragment << "' in:\n"
+         << ds.format();
 }
 
 }  // namespace fabkit::hacks::testing

@@ -24,7 +24,8 @@ connections:
 )");
   EXPECT_TRUE(d.readable);
   EXPECT_FALSE(d.feasible());
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kPairNotAllowed,
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             DiagnosticCode::kPairNotAllowed,
                              "bottle.surface (surface) cannot connect to door.rod (rod): a surface "
                              "connects only to a surface or hemisphere",
                              6));
@@ -43,8 +44,8 @@ connections:
   - connect: [basket.rod1, eye.hook]
   - connect: [mug.hook, basket.rod2]
 )");
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kBothClosed,
-                             "basket.rod2 and mug.hook are both closed", 10));
+  EXPECT_TRUE(has_diagnostic(
+      d.diagnostics, DiagnosticCode::kBothClosed, "basket.rod2 and mug.hook are both closed", 10));
   // The earlier connects were fine.
   EXPECT_TRUE(d.steps[1].accepted);
   EXPECT_TRUE(d.steps[2].accepted);
@@ -64,7 +65,8 @@ TEST(Verify, HookOpeningSmallerThanRodRadius) {
   ASSERT_TRUE(a.connect({dh1, "hook1"}, {env2, "rod"}).accepted);
   const ConnectReport r = a.connect({dh2, "hook1"}, {rods, "rod"});
   EXPECT_FALSE(r.accepted);
-  EXPECT_TRUE(has_diagnostic(r.diagnostics, DiagnosticCode::kDimensionMismatch,
+  EXPECT_TRUE(has_diagnostic(r.diagnostics,
+                             DiagnosticCode::kDimensionMismatch,
                              "DoubleHook#2.hook1: hook opening 11.6 mm is smaller than rod radius "
                              "12.7 mm (LongTensionRod.rod)"));
 }
@@ -82,7 +84,8 @@ connections:
 )");
   EXPECT_TRUE(d.steps[1].accepted);
   EXPECT_FALSE(d.steps[2].accepted);
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kNoSpaceLeft,
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             DiagnosticCode::kNoSpaceLeft,
                              "pin.rod: only 3.0 mm of its 7.0 mm length is still free, but "
                              "s2.hook1 needs 4.0 mm",
                              8));
@@ -129,13 +132,16 @@ connections:
 )");
   ASSERT_TRUE(d.readable) << d.diagnostics.format();
   EXPECT_FALSE(d.feasible());
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kCycleTooLong,
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             DiagnosticCode::kCycleTooLong,
                              "cannot close cycle rods.rod2 – eye2 – basket – eye1 – rods.rod1: ",
                              15));
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kCycleTooLong,
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             DiagnosticCode::kCycleTooLong,
                              "mm between rods.rod2 and rods.rod1 exceeds the"));
   // The rods' inner ends are 830 mm apart; the eye hooks and the handle span 307 mm at most.
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kCycleTooLong,
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             DiagnosticCode::kCycleTooLong,
                              "830 mm between rods.rod2 and rods.rod1 exceeds the 307 mm"));
   // Rejected before any closure search.
   EXPECT_EQ(d.steps.back().report.starts_used, 0);
@@ -158,10 +164,12 @@ connections:
 )");
   ASSERT_TRUE(d.readable) << d.diagnostics.format();
   EXPECT_FALSE(d.feasible());
-  EXPECT_TRUE(has_diagnostic(d.diagnostics, DiagnosticCode::kCycleNotClosable,
-                             "cannot close cycle wall.hook1 – s – wall.hook2: the best of 16 starts "
-                             "leaves a gap of",
-                             10))
+  EXPECT_TRUE(
+      has_diagnostic(d.diagnostics,
+                     DiagnosticCode::kCycleNotClosable,
+                     "cannot close cycle wall.hook1 – s – wall.hook2: the best of 16 starts "
+                     "leaves a gap of",
+                     10))
       << d.diagnostics.format();
   EXPECT_EQ(d.steps.back().report.starts_used, 16);
   // The front end gets the best configuration found, one frame per part.
@@ -169,9 +177,14 @@ connections:
 }
 
 TEST(Verify, FeasibleCyclesCloseToMicrometres) {
-  for (const char* name : {"basket_between_rods", "bird_feeder", "toothbrush_holder",
-                           "soap_bottle_holder", "charger_holder", "paper_towel_holder",
-                           "diaper_caddy", "reading_nook"}) {
+  for (const char* name : {"basket_between_rods",
+                           "bird_feeder",
+                           "toothbrush_holder",
+                           "soap_bottle_holder",
+                           "charger_holder",
+                           "paper_towel_holder",
+                           "diaper_caddy",
+                           "reading_nook"}) {
     SCOPED_TRACE(name);
     const Design d = testing::load_example(name);
     ASSERT_TRUE(d.feasible()) << d.diagnostics.format();

@@ -17,26 +17,26 @@ enum class Severity { kError, kWarning, kNote };
 
 /// One failure class per code; front ends spell them with to_string().
 enum class DiagnosticCode {
-  kMalformedInput,      ///< the file cannot be parsed (syntax, wrong node type)
-  kUnreadableFile,      ///< the file cannot be opened or read
-  kInvalidValue,        ///< NaN, negative or absurd sizes, out-of-range numbers
-  kUnknownName,         ///< unknown key, part, primitive or option
-  kUnknownPart,         ///< no part of that name in the library
-  kUnknownPrimitive,    ///< the part has no primitive of that name
-  kDuplicateName,       ///< a name used twice where names must be unique
-  kNotInAssembly,       ///< neither primitive's part is in the assembly yet
-  kPairNotAllowed,      ///< the two primitive types cannot connect (paper Table 1)
-  kBothClosed,          ///< both primitives are closed: there is no way to slide one on
-  kDimensionMismatch,   ///< the primitives' sizes do not fit (hook opening vs rod radius, ...)
-  kNoSpaceLeft,         ///< the available critical dimension is used up
-  kSingleConnection,    ///< a clip/hemisphere already holds something
-  kAlreadyConnected,    ///< the same two primitives are connected already
-  kMultiConnection,     ///< several connections on one primitive cannot be spaced apart
-  kCycleTooLong,        ///< polygon-inequality quick reject of a cycle-closing connect
-  kCycleNotClosable,    ///< the cycle-closure search found no configuration that closes it
-  kNoEnvironment,       ///< an assembly needs an environment before anything else
-  kTargetMissing,       ///< no end_with target, or it is not connected
-  kNotConnected,        ///< a part is in the design but connected to nothing
+  kMalformedInput,     ///< the file cannot be parsed (syntax, wrong node type)
+  kUnreadableFile,     ///< the file cannot be opened or read
+  kInvalidValue,       ///< NaN, negative or absurd sizes, out-of-range numbers
+  kUnknownName,        ///< unknown key, part, primitive or option
+  kUnknownPart,        ///< no part of that name in the library
+  kUnknownPrimitive,   ///< the part has no primitive of that name
+  kDuplicateName,      ///< a name used twice where names must be unique
+  kNotInAssembly,      ///< neither primitive's part is in the assembly yet
+  kPairNotAllowed,     ///< the two primitive types cannot connect (paper Table 1)
+  kBothClosed,         ///< both primitives are closed: there is no way to slide one on
+  kDimensionMismatch,  ///< the primitives' sizes do not fit (hook opening vs rod radius, ...)
+  kNoSpaceLeft,        ///< the available critical dimension is used up
+  kSingleConnection,   ///< a clip/hemisphere already holds something
+  kAlreadyConnected,   ///< the same two primitives are connected already
+  kMultiConnection,    ///< several connections on one primitive cannot be spaced apart
+  kCycleTooLong,       ///< polygon-inequality quick reject of a cycle-closing connect
+  kCycleNotClosable,   ///< the cycle-closure search found no configuration that closes it
+  kNoEnvironment,      ///< an assembly needs an environment before anything else
+  kTargetMissing,      ///< no end_with target, or it is not connected
+  kNotConnected,       ///< a part is in the design but connected to nothing
 };
 
 std::string_view to_string(Severity s);

@@ -122,6 +122,25 @@ struct Rigid {
     r.t = R * o.t + t;
     return r;
   }
+  /// this · o for a constant o: cheaper than operator* when T carries derivatives.
+  Rigid then(const Rigid<double>& o) const {
+    Rigid r;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        r.R(i, j) = R(i, 0) * o.R(0, j) + R(i, 1) * o.R(1, j) + R(i, 2) * o.R(2, j);
+      }
+      r.t[i] = R(i, 0) * o.t[0] + R(i, 1) * o.t[1] + R(i, 2) * o.t[2] + t[i];
+    }
+    return r;
+  }
+  /// The same transform with another scalar type (no derivatives).
+  template <class U>
+  Rigid<U> cast() const {
+    Rigid<U> r;
+    r.R = R.template cast<U>();
+    r.t = t.template cast<U>();
+    return r;
+  }
   Rigid inverse() const {
     Rigid r;
     r.R = R.transpose();

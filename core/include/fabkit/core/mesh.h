@@ -46,7 +46,10 @@ TriangleMesh hemisphere(double radius, int segments = 16);
 /// Torus arc in the y–z plane around the x axis: centreline radius `arc_radius`, wire radius
 /// `wire_radius`, starting at (0, 0, -arc_radius) and sweeping `angle_deg` towards -y (the
 /// FabHaL hook convention). Open arcs are capped.
-TriangleMesh torus_arc(double arc_radius, double wire_radius, double angle_deg, int segments = 32,
+TriangleMesh torus_arc(double arc_radius,
+                       double wire_radius,
+                       double angle_deg,
+                       int segments = 32,
                        int wire_segments = 10);
 
 }  // namespace shapes

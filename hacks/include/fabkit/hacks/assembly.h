@@ -50,17 +50,17 @@ struct PrimitiveRef {
 
 /// Options of the verification run by every connect().
 struct VerifyOptions {
-  int restarts = 16;           ///< T: starts of the cycle-closure search (paper §4.3.2)
-  std::uint64_t seed = 1;      ///< seeds the random starts (same input, same answer)
-  double tolerance = 1e-6;     ///< closed when Σ‖f‖² is below this (mm², deg²)
-  int max_iterations = 100;    ///< per start
-  bool quick_reject = true;    ///< polygon-inequality check before the search
+  int restarts = 16;         ///< T: starts of the cycle-closure search (paper §4.3.2)
+  std::uint64_t seed = 1;    ///< seeds the random starts (same input, same answer)
+  double tolerance = 1e-6;   ///< closed when Σ‖f‖² is below this (mm², deg²)
+  int max_iterations = 100;  ///< per start
+  bool quick_reject = true;  ///< polygon-inequality check before the search
 };
 
 struct ConnectOptions {
   AlignmentChoice alignment = AlignmentChoice::kDefault;
-  bool fixed = false;          ///< hold this connection's parameters during relaxation
-  SourceLocation where;        ///< for diagnostics of design files
+  bool fixed = false;    ///< hold this connection's parameters during relaxation
+  SourceLocation where;  ///< for diagnostics of design files
   VerifyOptions verify;
 };
 
@@ -71,6 +71,7 @@ struct Connector {
   int primitive = -1;
   int offset = 0;
   std::vector<ParamSpec> params;
+  Rigid<double> base;  ///< the primitive's base frame in its part (cached)
 };
 
 struct Connection {
@@ -78,6 +79,7 @@ struct Connection {
   Connector second;  ///< the new primitive (tree: the child side)
   AlignmentChoice alignment = AlignmentChoice::kDefault;
   Mat4 offset = Mat4::Identity();  ///< C_first · offset = C_second when connected
+  Rigid<double> offset_rigid;      ///< the same offset, for the solvers
   bool fixed = false;
   bool closes_cycle = false;
   SourceLocation where;
@@ -87,8 +89,9 @@ struct Connection {
 struct PartNode {
   std::shared_ptr<Part> part;
   bool environment = false;
-  Frame frame;                       ///< environments: fixed world frame
-  ConnectionId parent;               ///< tree edge to the parent (invalid for environments)
+  Frame frame;              ///< environments: fixed world frame
+  Rigid<double> placement;  ///< `frame` as a transform (cached)
+  ConnectionId parent;      ///< tree edge to the parent (invalid for environments)
 };
 
 /// A parameter of the assembly's vector with its owner, for messages and front ends.
@@ -106,9 +109,9 @@ struct ConnectReport {
   std::string description;          ///< "eyehook2.hook ↔ basket.hook"
   std::vector<std::string> cycles;  ///< the cycles this connect closes
   Diagnostics diagnostics;
-  int starts_used = 0;              ///< cycle-closure starts run
-  double residual = 0;              ///< best Σ‖f‖² found by the closure search
-  double milliseconds = 0;          ///< verification time
+  int starts_used = 0;      ///< cycle-closure starts run
+  double residual = 0;      ///< best Σ‖f‖² found by the closure search
+  double milliseconds = 0;  ///< verification time
   /// Configuration with the smallest residual found (the whole parameter vector), also
   /// when the connect is rejected, so a front end can show how close it came.
   std::vector<double> best_parameters;
@@ -128,21 +131,26 @@ struct Target {
 class Assembly {
  public:
   /// Adds an environment part at a fixed world frame.
-  ConnectReport add(std::shared_ptr<Part> environment, const Frame& frame,
+  ConnectReport add(std::shared_ptr<Part> environment,
+                    const Frame& frame,
                     const SourceLocation& where = {});
   /// Adds an environment through one of its primitives (paper App. B.2): a one-primitive
   /// part is placed at `frame`; otherwise only that primitive's base frame is replaced.
-  ConnectReport add(const PrimitiveRef& primitive, const Frame& frame,
+  ConnectReport add(const PrimitiveRef& primitive,
+                    const Frame& frame,
                     const SourceLocation& where = {});
   /// The paper's connect: verifies, then either brings a new part in or closes a cycle.
-  ConnectReport connect(const PrimitiveRef& a, const PrimitiveRef& b,
+  ConnectReport connect(const PrimitiveRef& a,
+                        const PrimitiveRef& b,
                         const ConnectOptions& options = {});
   /// Target: the part's frame becomes `frame` and its first primitive's resulting world
   /// frame is the goal (paper App. B.1).
-  Diagnostics end_with(std::shared_ptr<Part> part, const Frame& frame,
+  Diagnostics end_with(std::shared_ptr<Part> part,
+                       const Frame& frame,
                        const SourceLocation& where = {});
   /// Target: the primitive's world frame should be `frame`.
-  Diagnostics end_with(const PrimitiveRef& primitive, const Frame& frame,
+  Diagnostics end_with(const PrimitiveRef& primitive,
+                       const Frame& frame,
                        const SourceLocation& where = {});
 
   // ---- the model -------------------------------------------------------------------------
@@ -222,7 +230,7 @@ template <class T>
 Rigid<T> Assembly::connector_world(const Connector& c, const Rigid<T>& frame, const T* x) const {
   const Primitive& p = parts_[static_cast<std::size_t>(c.part.value)]
                            .part->primitives[static_cast<std::size_t>(c.primitive)];
-  Rigid<T> m = frame * Rigid<T>::from_matrix(p.frame.matrix());
+  Rigid<T> m = frame.then(c.base);
   apply_connector<T>(p.connector_kind(), p.shape, x + c.offset, m);
   return m;
 }
@@ -230,20 +238,21 @@ Rigid<T> Assembly::connector_world(const Connector& c, const Rigid<T>& frame, co
 template <class T>
 Rigid<T> Assembly::part_frame(PartId id, const T* x) const {
   const PartNode& n = parts_[static_cast<std::size_t>(id.value)];
-  if (!n.parent.valid()) return Rigid<T>::from_matrix(n.frame.matrix());
+  if (!n.parent.valid()) return n.placement.template cast<T>();
   const Connection& c = connections_[static_cast<std::size_t>(n.parent.value)];
   const Primitive& child = n.part->primitives[static_cast<std::size_t>(c.second.primitive)];
   // Q = P · C_first · A · C_second⁻¹
-  return connector_world<T>(c.first, part_frame<T>(c.first.part, x), x) *
-         Rigid<T>::from_matrix(c.offset) *
-         connector_transform<T>(child, x + c.second.offset).inverse();
+  Rigid<T> child_connector = c.second.base.template cast<T>();
+  apply_connector<T>(child.connector_kind(), child.shape, x + c.second.offset, child_connector);
+  return connector_world<T>(c.first, part_frame<T>(c.first.part, x), x).then(c.offset_rigid) *
+         child_connector.inverse();
 }
 
 template <class T>
 std::pair<Rigid<T>, Rigid<T>> Assembly::connection_frames(ConnectionId id, const T* x) const {
   const Connection& c = connections_[static_cast<std::size_t>(id.value)];
   const Rigid<T> first =
-      connector_world<T>(c.first, part_frame<T>(c.first.part, x), x) * Rigid<T>::from_matrix(c.offset);
+      connector_world<T>(c.first, part_frame<T>(c.first.part, x), x).then(c.offset_rigid);
   const Rigid<T> second = connector_world<T>(c.second, part_frame<T>(c.second.part, x), x);
   return {first, second};
 }

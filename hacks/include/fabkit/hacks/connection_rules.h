@@ -25,11 +25,13 @@ std::optional<AlignmentChoice> alignment_choice_from_string(std::string_view s);
 /// Alignment offset between two connector frames: a connection requires
 /// C_first_global · A = C_second_global, with A = rot_euler(rot).
 struct AlignmentOffset {
-  Vec3 rot = Vec3::Zero();          ///< default offset, degrees
-  std::vector<int> flip_axes;       ///< Euler components that "flip" changes; empty = not flippable
+  Vec3 rot = Vec3::Zero();     ///< default offset, degrees
+  std::vector<int> flip_axes;  ///< Euler components that "flip" changes; empty = not flippable
   /// The offset for a choice. Flipping maps 0 ↔ 180 and negates anything else, per component.
   Vec3 rotation(AlignmentChoice choice) const;
-  Mat4 matrix(AlignmentChoice choice) const { return Frame(Vec3::Zero(), rotation(choice)).matrix(); }
+  Mat4 matrix(AlignmentChoice choice) const {
+    return Frame(Vec3::Zero(), rotation(choice)).matrix();
+  }
   bool flippable() const { return !flip_axes.empty(); }
 };
 
@@ -49,12 +51,15 @@ struct PrimitiveInUse {
 /// Physical compatibility of a connection (reference §3.2): closedness, sizes, and the
 /// available critical dimension. Adds one diagnostic per failed quantity, naming the
 /// primitives and the numbers; returns true if nothing failed.
-bool check_compatibility(const PrimitiveInUse& a, const PrimitiveInUse& b, Diagnostics& diags,
+bool check_compatibility(const PrimitiveInUse& a,
+                         const PrimitiveInUse& b,
+                         Diagnostics& diags,
                          const SourceLocation& where = {});
 
 /// Available critical dimension of `self` after it takes a connection to `other`
 /// (reference §4.3). `other_available` is the other primitive's current availability.
-std::vector<double> consume_critical_dim(const Primitive& self, std::vector<double> available,
+std::vector<double> consume_critical_dim(const Primitive& self,
+                                         std::vector<double> available,
                                          const Primitive& other,
                                          const std::vector<double>& other_available);
 

@@ -28,7 +28,8 @@ void apply_connector(ConnectorKind kind, const PrimitiveShape& s, const T* q, Ri
     case ConnectorKind::kHook:
     case ConnectorKind::kRing:
     case ConnectorKind::kHookFlex:
-    case ConnectorKind::kRingFlex: {  // (θ[, φ]): inner side of the wire, T(0, -r sinθ, -r cosθ) · Rx(-θ)
+    case ConnectorKind::kRingFlex: {  // (θ[, φ]): inner side of the wire, T(0, -r sinθ, -r cosθ) ·
+                                      // Rx(-θ)
       const T r(s.arc_radius - s.thickness);
       const T th = q[0] * deg;
       m.translate(zero, -r * sin(th), -r * cos(th)).rotate_x(-q[0]);

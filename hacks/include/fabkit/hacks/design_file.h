@@ -33,7 +33,7 @@ struct DesignOptions {
 struct DesignStep {
   enum class Kind { kAdd, kConnect, kEndWith };
   Kind kind = Kind::kConnect;
-  std::string text;     ///< "connect eyehook1.hole → rods.rod1 (flip)"
+  std::string text;  ///< "connect eyehook1.hole → rods.rod1 (flip)"
   SourceLocation where;
   bool accepted = false;
   bool skipped = false;  ///< not attempted because an earlier step it depends on failed
@@ -57,11 +57,14 @@ struct Design {
 
 /// Reads and builds a design file, running every add / connect / end_with with full
 /// verification. Never throws on bad input: problems become diagnostics with file:line.
-Design load_design(const std::filesystem::path& path, const PartsLibrary& library,
+Design load_design(const std::filesystem::path& path,
+                   const PartsLibrary& library,
                    const DesignOptions& options = {});
 /// Same, from text; `display_name` stands in for the file name in diagnostics.
-Design load_design_text(std::string_view yaml, std::string_view display_name,
-                        const PartsLibrary& library, const DesignOptions& options = {},
+Design load_design_text(std::string_view yaml,
+                        std::string_view display_name,
+                        const PartsLibrary& library,
+                        const DesignOptions& options = {},
                         const std::filesystem::path& base_dir = {});
 
 /// Whether a diagnostic is about the input (unreadable, malformed, unknown names, invalid

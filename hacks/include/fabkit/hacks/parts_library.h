@@ -46,8 +46,10 @@ class PartsLibrary {
   const PartGenerator* find(std::string_view name) const;
   /// Builds a part; unknown names, unknown parameters and out-of-range values get a
   /// diagnostic (with a "did you mean" suggestion) and nullptr.
-  std::shared_ptr<Part> make(std::string_view name, const ParamValues& params,
-                             Diagnostics& diags, const SourceLocation& where = {}) const;
+  std::shared_ptr<Part> make(std::string_view name,
+                             const ParamValues& params,
+                             Diagnostics& diags,
+                             const SourceLocation& where = {}) const;
   const std::vector<PartGenerator>& generators() const { return generators_; }
   /// Closest known name to `name` (for suggestions); empty if nothing is close.
   std::string suggest(std::string_view name) const;

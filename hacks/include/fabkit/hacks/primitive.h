@@ -93,9 +93,10 @@ struct Primitive {
   std::string name;  ///< unique within its part, e.g. "hook1"
   PrimitiveType type = PrimitiveType::kRod;
   PrimitiveShape shape;
-  Frame frame;              ///< base frame in the part's coordinates
-  bool flex = false;        ///< hook/ring: extra φ tilt (HookFlex, RingFlex)
-  bool centerline = false;  ///< rod/ring/tube: connect on the axis/centre (RodCtl, RingCtl, TubeCtl)
+  Frame frame;        ///< base frame in the part's coordinates
+  bool flex = false;  ///< hook/ring: extra φ tilt (HookFlex, RingFlex)
+  bool centerline =
+      false;  ///< rod/ring/tube: connect on the axis/centre (RodCtl, RingCtl, TubeCtl)
   /// Rod/hook/tube/surface: false when the part's geometry closes the ends, so connector
   /// parameters are clamped instead of running off (defaults: true, surface false).
   bool is_open = true;
@@ -105,7 +106,9 @@ struct Primitive {
   std::optional<std::array<double, 2>> phi_range;    ///< flex φ bounds, default [45, 135]
 
   /// A primitive with the type's defaults (surface is closed; everything else open).
-  static Primitive make(std::string name, PrimitiveType type, const PrimitiveShape& shape,
+  static Primitive make(std::string name,
+                        PrimitiveType type,
+                        const PrimitiveShape& shape,
                         const Frame& frame = {});
 
   ConnectorKind connector_kind() const;
