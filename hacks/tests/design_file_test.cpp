@@ -211,3 +211,34 @@ connections:
 
 }  // namespace
 }  // namespace fabkit::hacks
+
+namespace fabkit::hacks {
+namespace {
+
+// A user part file named by the design works like a built-in part.
+TEST(DesignFile, PartFilesAddUserParts) {
+  const std::string yaml = R"(part_files: [../parts/wall_bracket.yaml]
+environment:
+  - {name: wall, part: WallBracket}
+parts:
+  - {name: s, part: DoubleHook}
+connections:
+  - connect: [s.hook1, wall.lip]
+)";
+  const Design d =
+      load_design_text(yaml,
+                       "user.yaml",
+                       PartsLibrary::builtin(),
+                       {},
+                       std::filesystem::path(FABKIT_SOURCE_DIR) / "examples" / "hacks");
+  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+  EXPECT_EQ(d.assembly.part_count(), 2);
+  // The built-in library is not changed by a design's part files.
+  EXPECT_EQ(PartsLibrary::builtin().find("WallBracket"), nullptr);
+  const Design missing = load_text("part_files: [nowhere.yaml]\nenvironment: []\n");
+  EXPECT_TRUE(testing::has_diagnostic(
+      missing.diagnostics, DiagnosticCode::kUnreadableFile, "nowhere.yaml"));
+}
+
+}  // namespace
+}  // namespace fabkit::hacks

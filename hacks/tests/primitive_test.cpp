@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include "fabkit/hacks/connector_frame.h"
+#include "fabkit/hacks/part.h"
+
 namespace fabkit::hacks {
 namespace {
 
@@ -132,6 +135,60 @@ TEST(Primitive, DescribeNamesTheSizes) {
   s.thickness = 2;
   EXPECT_EQ(Primitive::make("h", PrimitiveType::kHook, s).describe(),
             "hook (arc angle 270°, arc radius 11.6 mm, thickness 2 mm)");
+}
+
+}  // namespace
+}  // namespace fabkit::hacks
+
+namespace fabkit::hacks {
+namespace {
+
+// Every primitive type has a display mesh around its connector points.
+TEST(PrimitiveMesh, EveryTypeHasAClosedMeshAroundItsConnectors) {
+  std::vector<Primitive> all;
+  auto shape = [](std::initializer_list<std::pair<const char*, double>> fields) {
+    PrimitiveShape s;
+    for (auto [name, value] : fields) *shape_field(s, name) = value;
+    return s;
+  };
+  const Frame f(Vec3(10, -20, 30), Vec3(15, 25, 35));
+  all.push_back(
+      Primitive::make("rod", PrimitiveType::kRod, shape({{"radius", 5}, {"length", 100}}), f));
+  all.push_back(Primitive::make("hook",
+                                PrimitiveType::kHook,
+                                shape({{"arc_radius", 20}, {"arc_angle", 210}, {"thickness", 3}}),
+                                f));
+  all.push_back(Primitive::make(
+      "ring", PrimitiveType::kRing, shape({{"arc_radius", 15}, {"thickness", 4}}), f));
+  all.push_back(Primitive::make("tube",
+                                PrimitiveType::kTube,
+                                shape({{"inner_radius", 8}, {"thickness", 2}, {"length", 200}}),
+                                f));
+  all.push_back(Primitive::make(
+      "edge", PrimitiveType::kEdge, shape({{"width", 100}, {"length", 200}, {"height", 2}}), f));
+  all.push_back(Primitive::make(
+      "surface", PrimitiveType::kSurface, shape({{"width", 300}, {"length", 400}}), f));
+  all.push_back(
+      Primitive::make("hemisphere", PrimitiveType::kHemisphere, shape({{"radius", 9}}), f));
+  all.push_back(Primitive::make(
+      "clip",
+      PrimitiveType::kClip,
+      shape({{"width", 17}, {"height", 8}, {"dist", 13}, {"open_gap", 12}, {"thickness", 1}}),
+      f));
+  for (const Primitive& p : all) {
+    SCOPED_TRACE(p.name);
+    const TriangleMesh m = primitive_mesh(p);
+    ASSERT_FALSE(m.empty());
+    EXPECT_GT(m.volume(), 0);
+    // The connector point at the default parameters lies on or near the mesh's bounds.
+    std::vector<double> q;
+    for (const ParamSpec& s : p.connector_params()) q.push_back(s.init);
+    const Vec3 c = connector_frame<double>(p, q.data()).topRightCorner<3, 1>();
+    const Vec3 lo = m.bounds_min().array() - 1.0;
+    const Vec3 hi = m.bounds_max().array() + 1.0;
+    EXPECT_TRUE((c.array() >= lo.array()).all() && (c.array() <= hi.array()).all())
+        << c.transpose() << " not in [" << lo.transpose() << "] [" << hi.transpose() << "]";
+  }
 }
 
 }  // namespace
