@@ -3,11 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 
 #include "embedded_examples.h"
 #include "fabkit/hacks/design_file.h"
 #include "fabkit/hacks/parts_library.h"
+#include "fabkit/hacks/solution_export.h"
+#include "fabkit/hacks/solve.h"
 
 namespace fabkit::cli {
 namespace {
@@ -96,11 +99,129 @@ int run_check(const CheckSettings& settings) {
   return check_design(hacks::load_design(settings.design, library, options), settings.quiet);
 }
 
-int run_demo() {
+namespace {
+
+std::string stage_title(std::string_view stage) {
+  if (stage == "step1") return "step 1: reaching the target";
+  if (stage == "step2") return "step 2: relaxing under gravity";
+  return "checking stability";
+}
+
+void print_parts_table(const hacks::SolveResult& r) {
+  std::printf("\n  %-22s %-18s %28s   %s\n", "part", "type", "position (mm)", "rotation (deg)");
+  for (const hacks::SolvedPart& p : r.parts) {
+    const Frame f = p.frame.normalized();
+    std::printf("  %-22s %-18s [%8.1f %8.1f %8.1f]   [%6.1f %6.1f %6.1f]%s\n",
+                p.name.c_str(),
+                p.type.c_str(),
+                f.pos.x(),
+                f.pos.y(),
+                f.pos.z(),
+                f.rot.x(),
+                f.rot.y(),
+                f.rot.z(),
+                p.environment ? "  (environment)" : (p.target ? "  (target)" : ""));
+  }
+  std::printf("\n");
+}
+
+// Verifies, solves and exports one design; prints progress as it goes.
+int solve_design(Design design, const SolveSettings& settings) {
+  const bool talk = !settings.quiet;
+  if (talk) {
+    std::printf("verifying %zu steps of %s ... ",
+                design.steps.size(),
+                design.name.empty() ? "the design" : design.name.c_str());
+    std::fflush(stdout);
+  }
+  double verify_ms = 0;
+  for (const DesignStep& s : design.steps) verify_ms += s.report.milliseconds;
+  const int check = exit_code_for(design);
+  if (check != kExitOk) {
+    if (talk) std::printf("failed\n");
+    for (const Diagnostic& d : design.diagnostics) print_diagnostic(d);
+    return check;
+  }
+  if (talk) std::printf("ok (%.1f ms)\n", verify_ms);
+  for (const Diagnostic& d : design.diagnostics) print_diagnostic(d);
+
+  hacks::SolveOptions options;
+  std::string open_stage;
+  auto started = std::chrono::steady_clock::now();
+  auto close_stage = [&] {
+    if (open_stage.empty() || !talk) return;
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started)
+            .count();
+    std::printf("done (%.1f ms)\n", ms);
+  };
+  options.on_stage = [&](std::string_view stage) {
+    close_stage();
+    open_stage = std::string(stage);
+    started = std::chrono::steady_clock::now();
+    if (talk) {
+      std::printf("%s ... ", stage_title(stage).c_str());
+      std::fflush(stdout);
+    }
+  };
+  hacks::SolveResult result = hacks::solve(design.assembly, options);
+  close_stage();
+  result.timings.insert(result.timings.begin(), {"verify", verify_ms});
+  for (const Diagnostic& d : result.diagnostics) print_diagnostic(d);
+  if (!result.feasible) {
+    std::fprintf(stderr, "error: %s\n", result.message.c_str());
+    return kExitInfeasible;
+  }
+  if (talk) {
+    print_parts_table(result);
+    std::printf("%s\n", result.summary().c_str());
+  } else {
+    std::printf("%s: %s\n", design.name.c_str(), result.message.c_str());
+  }
+  if (settings.write && !settings.output_dir.empty()) {
+    Diagnostics d;
+    hacks::ExportOptions eo;
+    eo.design_name = design.name;
+    if (!hacks::export_solution(design.assembly, result, settings.output_dir, d, eo)) {
+      for (const Diagnostic& x : d) print_diagnostic(x);
+      return kExitBadInput;
+    }
+    if (talk) {
+      std::printf(
+          "wrote %s/result.json, scene.glb (open it in any glTF viewer), assembly.stl, "
+          "assembly.obj\n",
+          settings.output_dir.c_str());
+    }
+  }
+  for (const hacks::Slip& s : result.slips) {
+    std::fprintf(stderr, "error: falls apart: %s\n", s.message.c_str());
+  }
+  return result.stable ? kExitOk : kExitFallsApart;
+}
+
+}  // namespace
+
+int run_solve(const SolveSettings& settings) {
+  hacks::PartsLibrary library = hacks::PartsLibrary::builtin();
+  for (const std::string& file : settings.part_files) {
+    Diagnostics d;
+    if (!library.load_yaml(file, d)) {
+      for (const Diagnostic& x : d) print_diagnostic(x);
+      return kExitBadInput;
+    }
+  }
+  return solve_design(hacks::load_design(settings.design, library), settings);
+}
+
+int run_demo(const DemoSettings& settings) {
   std::printf("fabkit demo: the bird feeder hack of the FabHacks paper (Fig. 1, left)\n\n");
   Design design =
       hacks::load_design_text(kDemoDesign, kDemoDesignName, hacks::PartsLibrary::builtin());
-  return check_design(std::move(design), false);
+  print_steps(design);
+  std::printf("\n");
+  SolveSettings solve;
+  solve.output_dir = settings.output_dir;
+  return solve_design(std::move(design), solve);
 }
 
 int run_parts(const PartsSettings& settings) {

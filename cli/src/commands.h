@@ -12,6 +12,7 @@ enum ExitCode : int {
   kExitUsage = 1,       ///< bad command line
   kExitBadInput = 2,    ///< unreadable or malformed input
   kExitInfeasible = 3,  ///< the design cannot be built (a connect was rejected)
+  kExitFallsApart = 4,  ///< solved, but a connection slips off under gravity
 };
 
 struct CheckSettings {
@@ -23,7 +24,20 @@ struct CheckSettings {
 };
 
 int run_check(const CheckSettings& settings);
-int run_demo();
+
+struct SolveSettings {
+  std::string design;      ///< path, or the embedded demo when empty
+  std::string output_dir;  ///< where result.json, scene.glb, STL and OBJ go
+  std::vector<std::string> part_files;
+  bool quiet = false;
+  bool write = true;  ///< write the output files
+};
+int run_solve(const SolveSettings& settings);
+
+struct DemoSettings {
+  std::string output_dir = "fabkit-demo";
+};
+int run_demo(const DemoSettings& settings);
 
 struct PartsSettings {
   std::string name;  ///< one part in detail, or all when empty

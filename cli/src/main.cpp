@@ -20,8 +20,20 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   check_cmd->add_option("--seed", check.seed, "seed of the random starts");
 
-  CLI::App* demo_cmd =
-      app.add_subcommand("demo", "Check the bundled bird feeder hack (paper Fig. 1, left)");
+  SolveSettings solve;
+  CLI::App* solve_cmd = app.add_subcommand(
+      "solve", "Solve a design: reach the target, relax under gravity, say if it falls apart");
+  solve_cmd->add_option("design", solve.design, "design file (YAML)")->required();
+  solve_cmd->add_option("-o,--output",
+                        solve.output_dir,
+                        "directory for result.json, scene.glb, assembly.stl, assembly.obj");
+  solve_cmd->add_option("--parts", solve.part_files, "extra part library file(s) (YAML)");
+  solve_cmd->add_flag("-q,--quiet", solve.quiet, "print the verdict and diagnostics only");
+
+  DemoSettings demo;
+  CLI::App* demo_cmd = app.add_subcommand(
+      "demo", "Solve the bundled bird feeder hack (paper Fig. 1, left) and write its outputs");
+  demo_cmd->add_option("-o,--output", demo.output_dir, "output directory")->capture_default_str();
 
   PartsSettings parts;
   CLI::App* parts_cmd = app.add_subcommand("parts", "List the parts library, or show one part");
@@ -34,7 +46,8 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitUsage;
   }
   if (*check_cmd) return run_check(check);
-  if (*demo_cmd) return run_demo();
+  if (*solve_cmd) return run_solve(solve);
+  if (*demo_cmd) return run_demo(demo);
   if (*parts_cmd) return run_parts(parts);
   return kExitUsage;
 }

@@ -193,10 +193,18 @@ class Assembly {
   /// World frame of a part, differentiable in x.
   template <class T>
   Rigid<T> part_frame(PartId id, const T* x) const;
+  /// World frames of every part at once (parents before children), differentiable in x.
+  template <class T>
+  std::vector<Rigid<T>> all_part_frames(const T* x) const;
   /// World frames of a connection's two connector frames, the first including the
   /// alignment offset; equal when the connection is closed.
   template <class T>
   std::pair<Rigid<T>, Rigid<T>> connection_frames(ConnectionId id, const T* x) const;
+  /// Same, from part frames computed by all_part_frames().
+  template <class T>
+  std::pair<Rigid<T>, Rigid<T>> connection_frames(ConnectionId id,
+                                                  const std::vector<Rigid<T>>& frames,
+                                                  const T* x) const;
 
   /// Available critical dimension of a primitive (§4.3); empty if it has none.
   std::vector<double> available_critical_dim(PartId id, int primitive) const;
@@ -246,6 +254,37 @@ Rigid<T> Assembly::part_frame(PartId id, const T* x) const {
   apply_connector<T>(child.connector_kind(), child.shape, x + c.second.offset, child_connector);
   return connector_world<T>(c.first, part_frame<T>(c.first.part, x), x).then(c.offset_rigid) *
          child_connector.inverse();
+}
+
+template <class T>
+std::vector<Rigid<T>> Assembly::all_part_frames(const T* x) const {
+  std::vector<Rigid<T>> out;
+  out.reserve(parts_.size());
+  // Parents always precede children in insertion order.
+  for (const PartNode& n : parts_) {
+    if (!n.parent.valid()) {
+      out.push_back(n.placement.template cast<T>());
+      continue;
+    }
+    const Connection& c = connections_[static_cast<std::size_t>(n.parent.value)];
+    const Primitive& child = n.part->primitives[static_cast<std::size_t>(c.second.primitive)];
+    Rigid<T> child_connector = c.second.base.template cast<T>();
+    apply_connector<T>(child.connector_kind(), child.shape, x + c.second.offset, child_connector);
+    out.push_back(connector_world<T>(c.first, out[static_cast<std::size_t>(c.first.part.value)], x)
+                      .then(c.offset_rigid) *
+                  child_connector.inverse());
+  }
+  return out;
+}
+
+template <class T>
+std::pair<Rigid<T>, Rigid<T>> Assembly::connection_frames(ConnectionId id,
+                                                          const std::vector<Rigid<T>>& frames,
+                                                          const T* x) const {
+  const Connection& c = connections_[static_cast<std::size_t>(id.value)];
+  return {connector_world<T>(c.first, frames[static_cast<std::size_t>(c.first.part.value)], x)
+              .then(c.offset_rigid),
+          connector_world<T>(c.second, frames[static_cast<std::size_t>(c.second.part.value)], x)};
 }
 
 template <class T>

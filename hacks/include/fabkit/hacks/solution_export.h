@@ -1,0 +1,43 @@
+#pragma once
+/// Exports of a solved assembly: result.json (docs/result-format.md), scene.glb, STL, OBJ.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "fabkit/core/diagnostics.h"
+#include "fabkit/core/gltf.h"
+#include "fabkit/hacks/assembly.h"
+#include "fabkit/hacks/solve.h"
+
+namespace fabkit::hacks {
+
+/// result.json as text (2-space indented, keys in a fixed order, no timestamps).
+std::string result_json(const Assembly& assembly,
+                        const SolveResult& result,
+                        std::string_view design_name);
+
+/// Scene objects of the solved assembly: one per part, placed at its solved frame, coloured
+/// by role (environment grey, hack parts blue, target orange), plus a red marker at each
+/// slipping connection.
+std::vector<SceneObject> solution_scene(const Assembly& assembly, const SolveResult& result);
+
+/// All parts' display meshes placed in world coordinates (mm), as one mesh.
+TriangleMesh solution_mesh(const Assembly& assembly, const SolveResult& result);
+
+struct ExportOptions {
+  std::string design_name;
+  std::string basename = "assembly";  ///< <basename>.stl / .obj
+};
+
+/// Writes result.json, scene.glb, <basename>.stl and <basename>.obj into `directory`
+/// (created if needed). Each file is written atomically; returns false with diagnostics if
+/// any could not be written.
+bool export_solution(const Assembly& assembly,
+                     const SolveResult& result,
+                     const std::filesystem::path& directory,
+                     Diagnostics& diags,
+                     const ExportOptions& options = {});
+
+}  // namespace fabkit::hacks

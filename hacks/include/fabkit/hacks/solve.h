@@ -1,0 +1,100 @@
+#pragma once
+/// Solving a FabHaL assembly (paper §4.3.3): step 1 brings the target as close as possible to
+/// its end_with frame subject to every constraint; step 2 relaxes the assembly under gravity
+/// to static equilibrium and decides whether it falls apart.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fabkit/core/diagnostics.h"
+#include "fabkit/core/frame.h"
+#include "fabkit/hacks/assembly.h"
+
+namespace fabkit::hacks {
+
+struct SolveOptions {
+  int target_starts = 4;           ///< step 1: starts (the verified configuration + seeded random)
+  std::uint64_t seed = 1;          ///< seeds step 1's random starts
+  double constraint_weight = 100;  ///< step 1: weight of constraint residuals against the target's
+  double closure_tolerance_mm = 1e-6;   ///< connections must close to this after each step
+  double equilibrium_tolerance = 1e-4;  ///< max projected energy gradient, mm per unit parameter
+  /// An OPEN parameter at its bound falls off when moving beyond lowers the centre of mass of
+  /// the whole assembly by more than this many mm per unit parameter (t: per full length,
+  /// angles: per degree).
+  double fall_threshold = 1e-3;
+  int max_iterations = 500;  ///< per optimisation run
+  bool relax = true;         ///< run step 2
+  /// Called as each stage starts ("step1", "step2", "stability"); for progress displays.
+  std::function<void(std::string_view stage)> on_stage;
+};
+
+/// Why the solver stopped.
+enum class Termination {
+  kConverged,      ///< both steps converged
+  kNoTarget,       ///< the assembly has no (connected) target
+  kInfeasible,     ///< the constraints could not be satisfied
+  kMaxIterations,  ///< an optimisation ran out of iterations (result still usable)
+};
+std::string_view to_string(Termination t);
+
+struct PoseError {
+  double position_mm = 0;
+  double rotation_deg = 0;  ///< geodesic angle, modulo the target primitive's symmetries
+};
+
+/// A part's solved world frame.
+struct SolvedPart {
+  std::string name;
+  std::string type;
+  bool environment = false;
+  bool target = false;
+  Frame frame;
+};
+
+/// A connection that slips: an OPEN parameter at its bound with the energy pulling it out.
+struct Slip {
+  ConnectionId connection;
+  int parameter = -1;   ///< index into the assembly's parameter vector
+  std::string message;  ///< "DoubleHook#2.hook1 slides off the open end of door.rod (t = 1)"
+};
+
+struct StageTiming {
+  std::string stage;  ///< "verify", "step1", "step2", "stability"
+  double milliseconds = 0;
+};
+
+/// Everything a solve found, in a form that maps one to one onto result.json.
+struct SolveResult {
+  Termination termination = Termination::kConverged;
+  std::string message;
+  bool feasible = false;
+  bool stable = false;
+  PoseError target_step1;         ///< target error after step 1
+  PoseError target;               ///< after relaxation (step 2)
+  std::vector<SolvedPart> parts;  ///< world frames after relaxation
+  std::vector<double> step1_parameters;
+  std::vector<double> parameters;  ///< after relaxation
+  std::vector<Slip> slips;
+  std::vector<std::string> stability_notes;  ///< e.g. "sags by 12 mm; stable"
+  double max_gap_mm = 0;                     ///< largest connection gap after relaxation
+  double max_gap_deg = 0;
+  double equilibrium_residual = 0;  ///< max projected energy gradient (mm per unit parameter)
+  double energy = 0;                ///< Σ m·z_com (mass units · mm)
+  int step1_starts = 0;
+  std::vector<StageTiming> timings;
+  Diagnostics diagnostics;
+
+  /// Ceres-style text summary.
+  std::string summary() const;
+};
+
+/// Solves a verified assembly. Never throws on user input; problems are diagnostics.
+SolveResult solve(const Assembly& assembly, const SolveOptions& options = {});
+
+/// World frame of the target primitive and its error against the end_with frame, for
+/// parameter vector `x`.
+PoseError target_error(const Assembly& assembly, const std::vector<double>& x);
+
+}  // namespace fabkit::hacks

@@ -1,0 +1,174 @@
+#include "fabkit/hacks/solution_export.h"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <system_error>
+
+#include "fabkit/core/mesh_io.h"
+
+namespace fabkit::hacks {
+namespace {
+
+using nlohmann::ordered_json;
+
+// Rounds for stable text: 1e-6 mm / degrees is far below anything physical.
+double tidy(double v) {
+  const double r = std::round(v * 1e6) / 1e6;
+  return r == 0 ? 0.0 : r;  // no "-0"
+}
+
+ordered_json vec(const Vec3& v) {
+  return ordered_json::array({tidy(v.x()), tidy(v.y()), tidy(v.z())});
+}
+
+ordered_json pose_error_json(const PoseError& e) {
+  return {{"pos_error_mm", tidy(e.position_mm)}, {"rot_error_deg", tidy(e.rotation_deg)}};
+}
+
+bool write_text(const std::filesystem::path& path, const std::string& text, Diagnostics& diags) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    if (!out) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      diags.error(DiagnosticCode::kUnreadableFile, fmt::format("cannot write '{}'", path.string()));
+      return false;
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    diags.error(DiagnosticCode::kUnreadableFile, fmt::format("cannot write '{}'", path.string()));
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::string result_json(const Assembly& assembly,
+                        const SolveResult& r,
+                        std::string_view design_name) {
+  ordered_json j;
+  j["format"] = "fabkit-result/1";
+  j["design"] = std::string(design_name);
+  j["stable"] = r.stable;
+  j["feasible"] = r.feasible;
+  j["termination"] = std::string(to_string(r.termination));
+  j["message"] = r.message;
+  ordered_json target = pose_error_json(r.target);
+  target["step1"] = pose_error_json(r.target_step1);
+  if (assembly.target()) {
+    target["primitive"] = [&] {
+      const auto id = assembly.find(assembly.target()->part.get());
+      return id ? assembly.label(*id, assembly.target()->primitive) : std::string();
+    }();
+    target["goal"] = {{"pos", vec(assembly.target()->frame.pos)},
+                      {"rot", vec(assembly.target()->frame.normalized().rot)}};
+  }
+  j["target"] = target;
+  ordered_json parts = ordered_json::array();
+  for (const SolvedPart& p : r.parts) {
+    const Frame f = p.frame.normalized();
+    parts.push_back({{"name", p.name},
+                     {"type", p.type},
+                     {"role", p.environment ? "environment" : (p.target ? "target" : "part")},
+                     {"frame", {{"pos", vec(f.pos)}, {"rot", vec(f.rot)}}}});
+  }
+  j["parts"] = parts;
+  ordered_json slipping = ordered_json::array();
+  for (const Slip& s : r.slips) slipping.push_back(s.message);
+  j["slipping"] = slipping;
+  ordered_json params = ordered_json::array();
+  for (int i = 0; i < assembly.parameter_count() && i < static_cast<int>(r.parameters.size());
+       ++i) {
+    const ParamInfo& p = assembly.parameters()[static_cast<std::size_t>(i)];
+    params.push_back({{"primitive", assembly.label(p.part, p.primitive)},
+                      {"name", p.spec.name},
+                      {"value", tidy(r.parameters[static_cast<std::size_t>(i)])},
+                      {"min", p.spec.lo},
+                      {"max", p.spec.hi},
+                      {"tag", std::string(to_string(p.spec.tag))}});
+  }
+  j["parameters"] = params;
+  j["checks"] = {{"max_connection_gap_mm", r.max_gap_mm},
+                 {"max_connection_gap_deg", r.max_gap_deg},
+                 {"equilibrium_residual", r.equilibrium_residual},
+                 {"notes", r.stability_notes}};
+  ordered_json timings = ordered_json::object();
+  for (const StageTiming& t : r.timings)
+    timings[t.stage] = std::round(t.milliseconds * 1000) / 1000;
+  j["timings_ms"] = timings;
+  return j.dump(2) + "\n";
+}
+
+std::vector<SceneObject> solution_scene(const Assembly& assembly, const SolveResult& r) {
+  std::vector<SceneObject> out;
+  const std::vector<Mat4> frames = assembly.part_frames(r.parameters);
+  for (int i = 0; i < assembly.part_count(); ++i) {
+    const PartNode& n = assembly.node(PartId{i});
+    SceneObject o;
+    o.name = assembly.label(PartId{i});
+    o.mesh = n.part->mesh;
+    o.transform = frames[static_cast<std::size_t>(i)];
+    const bool is_target = assembly.target() && assembly.target()->part == n.part;
+    if (n.environment) {
+      o.color = {0.62f, 0.62f, 0.60f, 1.0f};
+    } else if (is_target) {
+      o.color = {0.95f, 0.55f, 0.12f, 1.0f};
+    } else {
+      o.color = {0.20f, 0.45f, 0.85f, 1.0f};
+    }
+    out.push_back(std::move(o));
+  }
+  for (const Slip& s : r.slips) {
+    const auto [f1, f2] = assembly.connection_frames<double>(s.connection, r.parameters.data());
+    SceneObject marker;
+    marker.name = "slipping: " + s.message;
+    marker.mesh = shapes::sphere(6.0);
+    marker.transform = Mat4::Identity();
+    marker.transform.topRightCorner<3, 1>() = f2.t;
+    marker.color = {0.9f, 0.05f, 0.05f, 1.0f};
+    out.push_back(std::move(marker));
+  }
+  return out;
+}
+
+TriangleMesh solution_mesh(const Assembly& assembly, const SolveResult& r) {
+  TriangleMesh all;
+  const std::vector<Mat4> frames = assembly.part_frames(r.parameters);
+  for (int i = 0; i < assembly.part_count(); ++i) {
+    all.append(
+        assembly.node(PartId{i}).part->mesh.transformed(frames[static_cast<std::size_t>(i)]));
+  }
+  return all;
+}
+
+bool export_solution(const Assembly& assembly,
+                     const SolveResult& result,
+                     const std::filesystem::path& directory,
+                     Diagnostics& diags,
+                     const ExportOptions& options) {
+  std::error_code ec;
+  std::filesystem::create_directories(directory, ec);
+  if (ec) {
+    diags.error(
+        DiagnosticCode::kUnreadableFile,
+        fmt::format("cannot create output directory '{}': {}", directory.string(), ec.message()));
+    return false;
+  }
+  bool ok = write_text(
+      directory / "result.json", result_json(assembly, result, options.design_name), diags);
+  ok = write_glb(solution_scene(assembly, result), directory / "scene.glb", diags) && ok;
+  const TriangleMesh mesh = solution_mesh(assembly, result);
+  ok = write_stl(mesh, directory / (options.basename + ".stl"), diags) && ok;
+  ok = write_obj(mesh, directory / (options.basename + ".obj"), diags) && ok;
+  return ok;
+}
+
+}  // namespace fabkit::hacks
