@@ -158,8 +158,9 @@ Diagnostics Assembly::end_with(std::shared_ptr<Part> part,
     diags.error(DiagnosticCode::kTargetMissing, "end_with: the target has no primitives", where);
     return diags;
   }
-  const Frame goal = frame * part->primitives.front().frame;
-  return end_with(PrimitiveRef(part, 0), goal, where);
+  // The paper's programs give the frame of the part's first primitive (App. B.3, Fig. 8:
+  // the soap bottle's rod, the basket's handle), as the reference's examples do.
+  return end_with(PrimitiveRef(part, 0), frame, where);
 }
 
 Diagnostics Assembly::end_with(const PrimitiveRef& primitive,

@@ -160,20 +160,21 @@ TEST(Assembly, ConnectDecidesTreeOrCycle) {
   EXPECT_EQ(a.connections_of(PartId{3}, 0).size(), 2u);
 }
 
-TEST(Assembly, EndWithRecordsThePrimitiveFrame) {
+TEST(Assembly, EndWithTargetsThePartsFirstPrimitive) {
   auto env = rod_environment(5, 500);
   auto bottle = make_part("SoapBottle");
   Assembly a;
   a.add(env, Frame());
-  const Frame part_frame(Vec3(0, 0, 253), Vec3(0, 0, 180));
-  EXPECT_TRUE(a.end_with(bottle, part_frame).empty());
+  const Frame goal(Vec3(0, 0, 253), Vec3(0, 0, 180));
+  EXPECT_TRUE(a.end_with(bottle, goal).empty());
   ASSERT_TRUE(a.target());
   EXPECT_EQ(a.target()->primitive, 0);
-  EXPECT_LT(
-      (a.target()->frame.matrix() - (part_frame * bottle->primitives[0].frame).matrix()).norm(),
-      1e-9);
-  EXPECT_TRUE(testing::has_diagnostic(
-      a.end_with(env, Frame()), DiagnosticCode::kTargetMissing, "is an environment"));
+  EXPECT_EQ(bottle->primitives[0].name, "rod");
+  EXPECT_LT((a.target()->frame.matrix() - goal.matrix()).norm(), 1e-12);
+  EXPECT_TRUE(a.end_with(PrimitiveRef(bottle, "surface"), goal).empty());
+  EXPECT_EQ(a.target()->primitive, 1);
+  EXPECT_TRUE(testing::has_diagnostic(a.end_with(env, Frame()), DiagnosticCode::kTargetMissing,
+                                      "is an environment"));
 }
 
 TEST(Assembly, SingleConnectionPrimitivesHoldOneThing) {

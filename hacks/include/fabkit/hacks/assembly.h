@@ -143,8 +143,8 @@ class Assembly {
   ConnectReport connect(const PrimitiveRef& a,
                         const PrimitiveRef& b,
                         const ConnectOptions& options = {});
-  /// Target: the part's frame becomes `frame` and its first primitive's resulting world
-  /// frame is the goal (paper App. B.1).
+  /// Target: the part's first primitive should reach world frame `frame` (the paper's
+  /// end_with(part, frame); its numbers are those of the first primitive, e.g. App. B.3).
   Diagnostics end_with(std::shared_ptr<Part> part,
                        const Frame& frame,
                        const SourceLocation& where = {});
