@@ -345,6 +345,8 @@ Part broom_rod() {
 
 Part cable() {
   auto r1 = ctl(rod("rod1", 1.2, 100, {0, 0, -76}, {0, 0, 0}));
+  // The plug stops the cord from sliding through a loop at its top end (t = 1).
+  r1.open_ends = {true, false};
   auto r2 = rod("rod2", 2.5, 11, {0, 0, -20.5}, {0, 0, 0});
   // Cord (rod1), strain relief (rod2), plug housing and metal connector on top.
   TriangleMesh body;
@@ -572,6 +574,8 @@ Part plastic_clip() {
 Part reading_room() {
   auto r1 = rod("rod1", 10, 1500, {-175, 1030, 1283}, {0, 90, 0});
   auto r2 = rod("rod2", 2.5, 20, {72.2, -1375, 1293.7}, {120, 0, 0});
+  // The pin's t = 1 end is in the wall (y = -1383): only its tip is open.
+  r2.open_ends = {true, false};
   // Floor and the two facing walls: rod1 on brackets in front of one, the pin (rod2) stuck in
   // the other.
   TriangleMesh body = box_between({-1000, -1405, -20}, {1000, 1100, 0});

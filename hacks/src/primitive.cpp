@@ -251,6 +251,7 @@ std::vector<ParamSpec> Primitive::connector_params() const {
     return angle("theta", shape.arc_angle / 2, r[0], r[1]);
   };
 
+  std::vector<ParamSpec> out = [&]() -> std::vector<ParamSpec> {
   switch (connector_kind()) {
     case ConnectorKind::kRod:
       return {frac("t"), angle("phi", 90, phi[0], phi[1])};
@@ -285,6 +286,22 @@ std::vector<ParamSpec> Primitive::connector_params() const {
       return {angle("theta", 180, 90, 270), angle("phi", 180, 90, 270), spin("s", 0)};
   }
   return {};
+  }();
+  // Which bounds a connection can run out of: sliding along an open rod, tube, edge or hook
+  // arc (per end), rolling off a hemisphere's rim. Clip jaws are pinned under physics.
+  for (ParamSpec& p : out) {
+    const bool tilt = p.name == "phi" && type != PrimitiveType::kHemisphere;
+    if (p.tag != ParamTag::kBoundedAndOpen || tilt) {
+      continue;
+    }
+    if (type == PrimitiveType::kHemisphere || type == PrimitiveType::kClip) {
+      p.open_at_lo = p.open_at_hi = true;
+    } else {
+      p.open_at_lo = open_ends[0];
+      p.open_at_hi = open_ends[1];
+    }
+  }
+  return out;
 }
 
 std::vector<double> Primitive::critical_dim() const {

@@ -1,7 +1,7 @@
 // The two-step solve of paper §4.3.3. Step 1 is bounded nonlinear least squares (Ceres,
 // automatic derivatives, seeded multi-start); step 2 minimises the gravitational potential
-// subject to the cycle closures with SLSQP (NLopt) on gradients from the same automatic
-// differentiation; then the falls-apart verdict. Ceres and NLopt stay inside this file.
+// subject to the cycle closures with a reduced-space Newton method on gradients from the same
+// automatic differentiation; then the falls-apart verdict. Ceres stays inside this file.
 #include "fabkit/hacks/solve.h"
 
 #include <ceres/ceres.h>
@@ -12,7 +12,8 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <nlopt.hpp>
+#include <cstdio>
+#include <cstdlib>
 #include <set>
 
 #include "constraints.h"
@@ -520,102 +521,21 @@ class PhysicsEvaluator {
   std::vector<double> last_, values_, jacobian_;
 };
 
-double nlopt_objective(unsigned n, const double* z, double* grad, void* data) {
-  auto* e = static_cast<PhysicsEvaluator*>(data);
-  e->evaluate(z);
-  if (grad) {
-    for (unsigned j = 0; j < n; ++j) grad[j] = e->gradient(0, static_cast<int>(j));
-  }
-  return e->value(0);
-}
-
-void nlopt_equalities(
-    unsigned m, double* result, unsigned n, const double* z, double* grad, void* data) {
-  auto* e = static_cast<PhysicsEvaluator*>(data);
-  e->evaluate(z);
-  for (unsigned i = 0; i < m; ++i) {
-    result[i] = e->value(1 + static_cast<int>(i));
-    if (grad) {
-      for (unsigned j = 0; j < n; ++j)
-        grad[i * n + j] = e->gradient(1 + static_cast<int>(i), static_cast<int>(j));
-    }
-  }
-}
-
-void nlopt_inequalities(
-    unsigned m, double* result, unsigned n, const double* z, double* grad, void* data) {
-  auto* e = static_cast<PhysicsEvaluator*>(data);
-  e->evaluate(z);
-  const int first = 1 + e->equalities();
-  for (unsigned i = 0; i < m; ++i) {
-    result[i] = e->value(first + static_cast<int>(i));
-    if (grad) {
-      for (unsigned j = 0; j < n; ++j)
-        grad[i * n + j] = e->gradient(first + static_cast<int>(i), static_cast<int>(j));
-    }
-  }
-}
-
 struct Step2Result {
   std::vector<double> x;
   bool converged = true;
   std::string note;
 };
 
-Step2Result run_step2(const Problem& p,
-                      const Variables& vars,
-                      const std::vector<double>& x1,
-                      const SolveOptions& o) {
-  const Assembly& a = *p.assembly;
-  Step2Result out;
-  out.x = x1;
-  if (vars.index.empty() || p.total_mass <= 0) return out;
-  PhysicsEvaluator eval(p, vars, x1);
-  const unsigned n = static_cast<unsigned>(vars.index.size());
-  nlopt::opt opt(nlopt::LD_SLSQP, n);
-  std::vector<double> lo(n, -HUGE_VAL), hi(n, HUGE_VAL);
-  for (unsigned k = 0; k < n; ++k) {
-    const ParamSpec& s = a.parameters()[static_cast<std::size_t>(vars.index[k])].spec;
-    if (s.tag == ParamTag::kUnbounded) continue;
-    lo[k] = s.lo / vars.scale[k];
-    hi[k] = s.hi / vars.scale[k];
-  }
-  opt.set_lower_bounds(lo);
-  opt.set_upper_bounds(hi);
-  opt.set_min_objective(nlopt_objective, &eval);
-  if (eval.equalities() > 0) {
-    opt.add_equality_mconstraint(
-        nlopt_equalities,
-        &eval,
-        std::vector<double>(static_cast<std::size_t>(eval.equalities()), 1e-9));
-  }
-  if (eval.inequalities() > 0) {
-    opt.add_inequality_mconstraint(
-        nlopt_inequalities,
-        &eval,
-        std::vector<double>(static_cast<std::size_t>(eval.inequalities()), 1e-9));
-  }
-  opt.set_ftol_abs(1e-12);
-  opt.set_xtol_rel(1e-12);
-  opt.set_maxeval(o.max_iterations * 4);
-  std::vector<double> z = to_z(vars, x1);
-  for (unsigned k = 0; k < n; ++k) z[k] = std::clamp(z[k], lo[k], hi[k]);
-  double f = 0;
-  try {
-    const nlopt::result r = opt.optimize(z, f);
-    out.converged = r != nlopt::MAXEVAL_REACHED && r != nlopt::MAXTIME_REACHED;
-  } catch (const nlopt::roundoff_limited&) {
-    // Converged as far as floating point allows; z holds the last good point.
-    out.note = "relaxation stopped at round-off";
-  } catch (const std::exception& e) {
-    out.converged = false;
-    out.note = fmt::format("relaxation stopped early: {}", e.what());
-  }
-  from_z(vars, z, out.x);
-  return out;
-}
-
-// ---- stability ----------------------------------------------------------------------------
+// One evaluation of step 2's functions at z: energy, gradient, the equality rows (cycle
+// closures) and the active inequality rows (multi-connection spacing), with Jacobians.
+struct Point {
+  Eigen::VectorXd z;
+  double energy = 0;
+  Eigen::VectorXd g;
+  Eigen::VectorXd h;  // equalities, then the active inequalities
+  Eigen::MatrixXd J;
+};
 
 struct StabilityReport {
   std::vector<Slip> slips;
@@ -646,98 +566,283 @@ std::string slip_message(const Assembly& a, int index, bool at_upper) {
       "{} slides off the open end of {} ({} = {:g})", guest, owner, p.spec.name, bound);
 }
 
+// Step 2 as a reduced-space Newton method on the constraint manifold: the closure equations
+// are kept exactly by projecting every trial point back onto them (minimum-norm Gauss-Newton,
+// which tolerates the redundant equations fixed joints create); bounds are an active set; the
+// Newton system uses the Hessian of the Lagrangian (finite differences of automatic
+// derivatives), with its eigenvalues made positive so every step descends. Directions the
+// energy does not change along (a hook on a level rod) get no gradient and therefore no step.
+class Relaxation {
+ public:
+  Relaxation(const Problem& p, const Variables& v, const std::vector<double>& x1)
+      : problem_(p), vars_(v), eval_(p, v, x1), n_(static_cast<int>(v.index.size())) {
+    lo_ = Eigen::VectorXd::Constant(n_, -std::numeric_limits<double>::infinity());
+    hi_ = Eigen::VectorXd::Constant(n_, std::numeric_limits<double>::infinity());
+    for (int k = 0; k < n_; ++k) {
+      const ParamSpec& s =
+          p.assembly->parameters()[static_cast<std::size_t>(v.index[static_cast<std::size_t>(k)])].spec;
+      if (s.tag == ParamTag::kUnbounded) continue;
+      lo_[k] = s.lo / v.scale[static_cast<std::size_t>(k)];
+      hi_[k] = s.hi / v.scale[static_cast<std::size_t>(k)];
+    }
+  }
+
+  Step2Result run(const std::vector<double>& x1, int max_iterations) {
+    Step2Result out;
+    out.x = x1;
+    Eigen::VectorXd z = Eigen::Map<const Eigen::VectorXd>(to_z(vars_, x1).data(), n_);
+    z = z.cwiseMax(lo_).cwiseMin(hi_);
+    Point cur = evaluate(z, {});
+    if (!project(cur)) {
+      out.converged = false;
+      out.note = "relaxation could not keep the cycles closed";
+      return out;
+    }
+    int it = 0;
+    for (; it < max_iterations; ++it) {
+      // Active bounds: at a bound, and the energy (after the constraints take their share)
+      // pushes further out.
+      const Eigen::VectorXd lambda = multipliers(cur, all_free(cur));
+      const Eigen::VectorXd reduced = cur.g - cur.J.transpose() * lambda;
+      std::vector<int> free;
+      for (int k = 0; k < n_; ++k) {
+        const int side = at_bound(cur.z, k);
+        if (side == 0 || side * reduced[k] > kGradTol) free.push_back(k);
+      }
+      const Eigen::MatrixXd JF = columns(cur.J, free);
+      const Eigen::VectorXd gF = rows(cur.g, free);
+      const Eigen::MatrixXd Z = null_space(JF);
+      if (Z.cols() == 0) break;
+      const Eigen::VectorXd rg = Z.transpose() * gF;
+      if (std::getenv("FABKIT_DEBUG_SOLVE")) {
+        std::fprintf(stderr, "iter %d E=%.12g |rg|=%.3g free=%zu Z=%ld\n", it, cur.energy, rg.size() ? rg.cwiseAbs().maxCoeff() : 0.0, free.size(), (long)Z.cols());
+      }
+      if (rg.cwiseAbs().maxCoeff() < kGradTol) break;  // equilibrium
+      const Eigen::VectorXd lam = multipliers(cur, free);
+      Eigen::MatrixXd H = Z.transpose() * lagrangian_hessian(cur, free, lam) * Z;
+      H = 0.5 * (H + H.transpose());
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
+      const double floor = std::max(1e-10, 1e-8 * eig.eigenvalues().cwiseAbs().maxCoeff());
+      Eigen::VectorXd ev = eig.eigenvalues().cwiseAbs().cwiseMax(floor);
+      const Eigen::VectorXd p =
+          -eig.eigenvectors() * (eig.eigenvectors().transpose() * rg).cwiseQuotient(ev);
+      Eigen::VectorXd d = Eigen::VectorXd::Zero(n_);
+      const Eigen::VectorXd dF = Z * p;
+      for (std::size_t i = 0; i < free.size(); ++i) d[free[i]] = dF[static_cast<int>(i)];
+      // Backtracking on the energy; every trial is projected back onto the constraints.
+      bool moved = false;
+      const double slope = cur.g.dot(d);
+      for (double alpha = 1.0; alpha > 1e-10; alpha *= 0.5) {
+        Point trial = evaluate((cur.z + alpha * d).cwiseMax(lo_).cwiseMin(hi_), free);
+        if (!project(trial)) continue;
+        if (trial.energy <= cur.energy + 1e-4 * alpha * std::min(slope, 0.0)) {
+          moved = trial.energy < cur.energy;
+          cur = std::move(trial);
+          break;
+        }
+      }
+      if (!moved) break;  // no further decrease within round-off
+    }
+    out.converged = it < max_iterations;
+    Eigen::VectorXd zf = cur.z;
+    std::vector<double> zv(zf.data(), zf.data() + zf.size());
+    from_z(vars_, zv, out.x);
+    return out;
+  }
+
+  /// The verdict at `x`: the equilibrium residual (largest slope of the potential along
+  /// directions the constraints and bounds allow, mm of mean height per mm or degree of
+  /// motion) and every OPEN parameter at its bound that the potential pulls further out.
+  StabilityReport stability(const std::vector<double>& x, double fall_threshold) {
+    StabilityReport report;
+    const Assembly& a = *problem_.assembly;
+    Eigen::VectorXd z = Eigen::Map<const Eigen::VectorXd>(to_z(vars_, x).data(), n_);
+    const Point p = evaluate(z.cwiseMax(lo_).cwiseMin(hi_), {});
+    const std::vector<int> off = all_free(p);  // coordinates not at a bound
+    const Eigen::VectorXd lambda = multipliers(p, off);
+    const Eigen::VectorXd reduced = lambda.size() ? Eigen::VectorXd(p.g - p.J.transpose() * lambda) : p.g;
+    std::vector<int> free = off;
+    for (int k = 0; k < n_; ++k) {
+      const int side = at_bound(p.z, k);
+      if (side != 0 && side * reduced[k] > kGradTol) free.push_back(k);
+    }
+    std::sort(free.begin(), free.end());
+    const Eigen::MatrixXd Z = null_space(columns(p.J, free));
+    if (Z.cols() > 0) report.equilibrium_residual = (Z.transpose() * rows(p.g, free)).cwiseAbs().maxCoeff();
+
+    const Eigen::MatrixXd J_off = columns(p.J, off);
+    for (int k = 0; k < n_; ++k) {
+      const int side = at_bound(p.z, k);
+      if (side == 0) continue;
+      const int index = vars_.index[static_cast<std::size_t>(k)];
+      const ParamSpec& spec = a.parameters()[static_cast<std::size_t>(index)].spec;
+      if (!(side < 0 ? spec.open_at_lo : spec.open_at_hi)) continue;
+      // Move k outwards by one unit; the coordinates off their bounds follow so the cycles stay
+      // closed (minimum-norm correction). If they cannot, the move is blocked.
+      double slope = side * p.g[k];
+      if (p.J.rows() > 0) {
+        const Eigen::VectorXd rhs = -side * p.J.col(k);
+        Eigen::VectorXd delta = Eigen::VectorXd::Zero(static_cast<int>(off.size()));
+        if (!off.empty()) delta = J_off.completeOrthogonalDecomposition().solve(rhs);
+        if ((J_off * delta - rhs).norm() > 1e-6 * std::max(1.0, rhs.norm())) continue;
+        slope += rows(p.g, off).dot(delta);
+      }
+      if (slope < -fall_threshold) {
+        Slip slip;
+        slip.connection = a.parameters()[static_cast<std::size_t>(index)].connection;
+        slip.parameter = index;
+        slip.message = slip_message(a, index, side > 0);
+        report.slips.push_back(slip);
+      }
+    }
+    return report;
+  }
+
+ private:
+  static constexpr double kGradTol = 1e-9;    // mm of mean height per mm of motion
+  static constexpr double kFeasTol = 1e-10;   // closure residual (mm, degrees)
+
+  int at_bound(const Eigen::VectorXd& z, int k) const {
+    const double tol = 1e-9 * std::max(1.0, hi_[k] - lo_[k]);
+    if (std::isfinite(lo_[k]) && z[k] <= lo_[k] + tol) return -1;
+    if (std::isfinite(hi_[k]) && z[k] >= hi_[k] - tol) return +1;
+    return 0;
+  }
+
+  std::vector<int> all_free(const Point& p) const {
+    std::vector<int> f;
+    for (int k = 0; k < n_; ++k) {
+      if (at_bound(p.z, k) == 0) f.push_back(k);
+    }
+    return f;
+  }
+
+  static Eigen::MatrixXd columns(const Eigen::MatrixXd& m, const std::vector<int>& cols) {
+    Eigen::MatrixXd out(m.rows(), static_cast<int>(cols.size()));
+    for (std::size_t i = 0; i < cols.size(); ++i) out.col(static_cast<int>(i)) = m.col(cols[i]);
+    return out;
+  }
+  static Eigen::VectorXd rows(const Eigen::VectorXd& v, const std::vector<int>& idx) {
+    Eigen::VectorXd out(static_cast<int>(idx.size()));
+    for (std::size_t i = 0; i < idx.size(); ++i) out[static_cast<int>(i)] = v[idx[i]];
+    return out;
+  }
+
+  // Orthonormal basis of the null space of m (columns); all of R^n if m has no rows.
+  static Eigen::MatrixXd null_space(const Eigen::MatrixXd& m) {
+    const int n = static_cast<int>(m.cols());
+    if (m.rows() == 0 || n == 0) return Eigen::MatrixXd::Identity(n, n);
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(m, Eigen::ComputeFullV);
+    const Eigen::VectorXd& sv = svd.singularValues();
+    const double tol = std::max(1e-12, 1e-9 * (sv.size() ? sv[0] : 0.0));
+    int rank = 0;
+    for (int i = 0; i < sv.size(); ++i) rank += sv[i] > tol ? 1 : 0;
+    return svd.matrixV().rightCols(n - rank);
+  }
+
+  // Least-squares multipliers: g_F ≈ J_Fᵀ λ.
+  static Eigen::VectorXd multipliers(const Point& p, const std::vector<int>& free) {
+    if (p.J.rows() == 0) return Eigen::VectorXd();
+    if (free.empty()) return Eigen::VectorXd::Zero(p.J.rows());
+    const Eigen::MatrixXd JF = columns(p.J, free);
+    const Eigen::VectorXd gF = rows(p.g, free);
+    return JF.transpose().completeOrthogonalDecomposition().solve(gF);
+  }
+
+  Point evaluate(const Eigen::VectorXd& z, const std::vector<int>& /*free*/) {
+    Point p;
+    p.z = z;
+    eval_.evaluate(z.data());
+    const int m = eval_.equalities();
+    std::vector<int> active_ineq;
+    for (int i = 0; i < eval_.inequalities(); ++i) {
+      if (eval_.value(1 + m + i) > -1e-6) active_ineq.push_back(1 + m + i);
+    }
+    const int rows_total = m + static_cast<int>(active_ineq.size());
+    p.energy = eval_.value(0);
+    p.g.resize(n_);
+    p.h.resize(rows_total);
+    p.J.resize(rows_total, n_);
+    for (int k = 0; k < n_; ++k) p.g[k] = eval_.gradient(0, k);
+    for (int r = 0; r < rows_total; ++r) {
+      const int row = r < m ? 1 + r : active_ineq[static_cast<std::size_t>(r - m)];
+      // Inequalities enter as equalities only while active; a satisfied one contributes 0.
+      p.h[r] = r < m ? eval_.value(row) : std::max(0.0, eval_.value(row));
+      for (int k = 0; k < n_; ++k) p.J(r, k) = eval_.gradient(row, k);
+    }
+    return p;
+  }
+
+  // Minimum-norm Gauss-Newton back onto h = 0, moving only coordinates off their bounds.
+  bool project(Point& p) {
+    for (int iter = 0; iter < 30; ++iter) {
+      if (p.h.size() == 0 || p.h.cwiseAbs().maxCoeff() < kFeasTol) return true;
+      const std::vector<int> free = all_free(p);
+      if (free.empty()) return false;
+      const Eigen::MatrixXd JF = columns(p.J, free);
+      const Eigen::VectorXd step = JF.completeOrthogonalDecomposition().solve(-p.h);
+      Eigen::VectorXd z = p.z;
+      for (std::size_t i = 0; i < free.size(); ++i) z[free[i]] += step[static_cast<int>(i)];
+      const double before = p.h.norm();
+      p = evaluate(z.cwiseMax(lo_).cwiseMin(hi_), free);
+      if (p.h.norm() > before && iter > 3) return false;
+    }
+    return p.h.size() == 0 || p.h.cwiseAbs().maxCoeff() < 1e-7;
+  }
+
+  // Hessian of E - λᵀh on the free coordinates, by central differences of the exact
+  // gradients.
+  Eigen::MatrixXd lagrangian_hessian(const Point& p, const std::vector<int>& free,
+                                     const Eigen::VectorXd& lambda) {
+    const int nf = static_cast<int>(free.size());
+    Eigen::MatrixXd H(nf, nf);
+    auto grad_l = [&](const Eigen::VectorXd& z) {
+      const Point q = evaluate(z, free);
+      Eigen::VectorXd gl = q.g;
+      if (lambda.size() && q.J.rows() >= lambda.size()) {
+        gl -= q.J.topRows(lambda.size()).transpose() * lambda;
+      }
+      return rows(gl, free);
+    };
+    for (int i = 0; i < nf; ++i) {
+      const double eps = 1e-5 * std::max(1.0, std::abs(p.z[free[static_cast<std::size_t>(i)]]));
+      Eigen::VectorXd zp = p.z, zm = p.z;
+      zp[free[static_cast<std::size_t>(i)]] += eps;
+      zm[free[static_cast<std::size_t>(i)]] -= eps;
+      H.col(i) = (grad_l(zp) - grad_l(zm)) / (2 * eps);
+    }
+    return H;
+  }
+
+  const Problem& problem_;
+  const Variables& vars_;
+  PhysicsEvaluator eval_;
+  int n_;
+  Eigen::VectorXd lo_, hi_;
+};
+
+Step2Result run_step2(const Problem& p,
+                      const Variables& vars,
+                      const std::vector<double>& x1,
+                      const SolveOptions& o) {
+  if (vars.index.empty() || p.total_mass <= 0) {
+    Step2Result out;
+    out.x = x1;
+    return out;
+  }
+  Relaxation relaxation(p, vars, x1);
+  return relaxation.run(x1, o.max_iterations);
+}
+
+// ---- stability ----------------------------------------------------------------------------
+
 StabilityReport check_stability(const Problem& p,
                                 const Variables& vars,
                                 const std::vector<double>& x,
                                 const SolveOptions& o) {
-  StabilityReport report;
-  const Assembly& a = *p.assembly;
-  const int n = static_cast<int>(vars.index.size());
-  if (n == 0 || p.total_mass <= 0) return report;
-  PhysicsEvaluator eval(p, vars, x);
-  const std::vector<double> z = to_z(vars, x);
-  eval.evaluate(z.data());
-  const int m = eval.equalities();
-
-  // Gradient and constraint Jacobian in parameter units (x), not the optimiser's z.
-  Eigen::VectorXd g(n);
-  Eigen::MatrixXd J(m, n);
-  for (int k = 0; k < n; ++k) {
-    const double dz_dx = 1.0 / vars.scale[static_cast<std::size_t>(k)];
-    g[k] = eval.gradient(0, k) * dz_dx;
-    for (int r = 0; r < m; ++r) J(r, k) = eval.gradient(1 + r, k) * dz_dx;
-  }
-  // Which parameters sit at a bound.
-  std::vector<int> at_bound(static_cast<std::size_t>(n), 0);  // -1 lower, +1 upper
-  for (int k = 0; k < n; ++k) {
-    const ParamSpec& s =
-        a.parameters()[static_cast<std::size_t>(vars.index[static_cast<std::size_t>(k)])].spec;
-    if (s.tag == ParamTag::kUnbounded) continue;
-    const double v = x[static_cast<std::size_t>(vars.index[static_cast<std::size_t>(k)])];
-    const double tol = 1e-7 * std::max(1.0, s.hi - s.lo);
-    if (v <= s.lo + tol) at_bound[static_cast<std::size_t>(k)] = -1;
-    if (v >= s.hi - tol) at_bound[static_cast<std::size_t>(k)] = +1;
-  }
-
-  // Energy change per unit move of parameter k outwards, the others free (not at a bound)
-  // following so the cycles stay closed. NaN if the cycles do not allow the move.
-  auto outward_slope = [&](int k, int dir) {
-    std::vector<int> others;
-    for (int j = 0; j < n; ++j) {
-      if (j != k && at_bound[static_cast<std::size_t>(j)] == 0) others.push_back(j);
-    }
-    if (m == 0) return dir * g[k];
-    Eigen::MatrixXd JF(m, static_cast<int>(others.size()));
-    for (std::size_t i = 0; i < others.size(); ++i) JF.col(static_cast<int>(i)) = J.col(others[i]);
-    const Eigen::VectorXd rhs = -dir * J.col(k);
-    Eigen::VectorXd delta = Eigen::VectorXd::Zero(static_cast<int>(others.size()));
-    if (!others.empty()) delta = JF.completeOrthogonalDecomposition().solve(rhs);
-    const double miss = (JF * delta - rhs).norm();
-    if (miss > 1e-6 * std::max(1.0, rhs.norm())) return std::numeric_limits<double>::quiet_NaN();
-    double slope = dir * g[k];
-    for (std::size_t i = 0; i < others.size(); ++i)
-      slope += g[others[i]] * delta[static_cast<int>(i)];
-    return slope;
-  };
-
-  for (int k = 0; k < n; ++k) {
-    const int side = at_bound[static_cast<std::size_t>(k)];
-    if (side == 0) continue;
-    const int index = vars.index[static_cast<std::size_t>(k)];
-    const ParamSpec& s = a.parameters()[static_cast<std::size_t>(index)].spec;
-    if (s.tag != ParamTag::kBoundedAndOpen) continue;
-    const double slope = outward_slope(k, side);
-    if (std::isfinite(slope) && slope < -o.fall_threshold) {
-      Slip slip;
-      slip.connection = a.parameters()[static_cast<std::size_t>(index)].connection;
-      slip.parameter = index;
-      slip.message = slip_message(a, index, side > 0);
-      report.slips.push_back(slip);
-    }
-  }
-
-  // Equilibrium: the gradient projected onto the directions that keep the cycles closed and
-  // do not push a bounded parameter further into its bound.
-  std::vector<int> movable;
-  for (int k = 0; k < n; ++k) {
-    const int side = at_bound[static_cast<std::size_t>(k)];
-    // A parameter at a bound can move only if the energy pulls it back inside.
-    if (side == 0 || side * g[k] > 0) movable.push_back(k);
-  }
-  Eigen::VectorXd gf(static_cast<int>(movable.size()));
-  Eigen::MatrixXd JF(m, static_cast<int>(movable.size()));
-  for (std::size_t i = 0; i < movable.size(); ++i) {
-    gf[static_cast<int>(i)] = g[movable[i]];
-    JF.col(static_cast<int>(i)) = J.col(movable[i]);
-  }
-  Eigen::VectorXd projected = gf;
-  if (m > 0 && !movable.empty()) {
-    // Remove the part of the gradient the constraints can balance: g - Jᵀλ, least squares.
-    const Eigen::VectorXd lambda = JF.transpose().completeOrthogonalDecomposition().solve(gf);
-    projected = gf - JF.transpose() * lambda;
-  }
-  report.equilibrium_residual = projected.size() ? projected.cwiseAbs().maxCoeff() : 0.0;
-  return report;
+  if (vars.index.empty() || p.total_mass <= 0) return {};
+  Relaxation relaxation(p, vars, x);
+  return relaxation.stability(x, o.fall_threshold);
 }
 
 }  // namespace

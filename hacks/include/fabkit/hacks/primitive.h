@@ -62,6 +62,10 @@ struct ParamSpec {
   bool critical_dim = false;         ///< positions along the critical dimension (t, t1, t2)
   bool fixed_under_physics = false;  ///< pinned during relaxation (clip jaws, fixed joints)
   bool constant = false;             ///< never optimised (lo == hi == init)
+  /// Whether running out past lo / hi lets the connection come apart (sliding parameters of
+  /// open primitives). Tilt limits (φ) are joint stops, never open.
+  bool open_at_lo = false;
+  bool open_at_hi = false;
   bool is_angle() const { return name != "t" && name != "t1" && name != "t2"; }
 };
 
@@ -102,6 +106,9 @@ struct Primitive {
   bool is_open = true;
   /// Whether something can be slid onto it at all. Rings are always closed.
   bool open_for_connect = true;
+  /// Which ends let a connection slide off while is_open: rod/tube/edge t = 0 and t = 1, hook
+  /// θ at its lower and upper bound. A cable's plug or a pin's wall end is closed.
+  std::array<bool, 2> open_ends{true, true};
   std::optional<std::array<double, 2>> theta_range;  ///< hook θ bounds, default [0, arc_angle]
   std::optional<std::array<double, 2>> phi_range;    ///< flex φ bounds, default [45, 135]
 

@@ -19,11 +19,9 @@ struct SolveOptions {
   std::uint64_t seed = 1;          ///< seeds step 1's random starts
   double constraint_weight = 100;  ///< step 1: weight of constraint residuals against the target's
   double closure_tolerance_mm = 1e-6;   ///< connections must close to this after each step
-  double equilibrium_tolerance = 1e-4;  ///< max projected energy gradient, mm per unit parameter
-  /// An OPEN parameter at its bound falls off when moving beyond lowers the centre of mass of
-  /// the whole assembly by more than this many mm per unit parameter (t: per full length,
-  /// angles: per degree).
-  double fall_threshold = 1e-3;
+  /// An OPEN parameter at its bound falls off when moving beyond it lowers the assembly's
+  /// mean centre-of-mass height by more than this (mm per mm of sliding, or per degree).
+  double fall_threshold = 1e-6;
   int max_iterations = 500;  ///< per optimisation run
   bool relax = true;         ///< run step 2
   /// Called as each stage starts ("step1", "step2", "stability"); for progress displays.
@@ -80,7 +78,9 @@ struct SolveResult {
   std::vector<std::string> stability_notes;  ///< e.g. "sags by 12 mm; stable"
   double max_gap_mm = 0;                     ///< largest connection gap after relaxation
   double max_gap_deg = 0;
-  double equilibrium_residual = 0;  ///< max projected energy gradient (mm per unit parameter)
+  /// Largest slope of the potential (mean centre-of-mass height, mm) along any motion the
+  /// connections and bounds allow, per mm of sliding or degree of turning; ~0 at equilibrium.
+  double equilibrium_residual = 0;
   double energy = 0;                ///< Σ m·z_com (mass units · mm)
   int step1_starts = 0;
   std::vector<StageTiming> timings;
