@@ -235,79 +235,6 @@ void from_z(const Variables& v, const std::vector<double>& z, std::vector<double
   }
 }
 
-void set_bounds(ceres::Problem& problem, double* z, const Assembly& a, const Variables& v) {
-  for (std::size_t k = 0; k < v.index.size(); ++k) {
-    const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v.index[k])].spec;
-    if (s.tag == ParamTag::kUnbounded) continue;
-    problem.SetParameterLowerBound(z, static_cast<int>(k), s.lo / v.scale[k]);
-    problem.SetParameterUpperBound(z, static_cast<int>(k), s.hi / v.scale[k]);
-  }
-}
-
-ceres::Solver::Options least_squares_options(int max_iterations) {
-  ceres::Solver::Options o;
-  o.linear_solver_type = ceres::DENSE_QR;
-  o.max_num_iterations = max_iterations;
-  o.function_tolerance = 1e-14;
-  o.gradient_tolerance = 1e-14;
-  o.parameter_tolerance = 1e-12;
-  o.num_threads = 1;
-  o.logging_type = ceres::SILENT;
-  return o;
-}
-
-// ---- step 1: the target -------------------------------------------------------------------
-
-struct TargetCost {
-  const Problem* problem;
-  const Variables* vars;
-  std::vector<double> base;
-  double weight;
-
-  int residual_count() const {
-    return (problem->target ? kTargetResiduals : 0) +
-           static_cast<int>(problem->closures.size()) * detail::kClosureResiduals +
-           static_cast<int>(problem->multi.size());
-  }
-
-  template <class T>
-  bool operator()(T const* const* params, T* residuals) const {
-    const std::vector<T> x = expand<T>(*vars, base, params[0]);
-    const Assembly& a = *problem->assembly;
-    const std::vector<Rigid<T>> frames = a.all_part_frames<T>(x.data());
-    T* out = residuals;
-    if (problem->target) {
-      target_residuals<T>(
-          *problem->target, frames[static_cast<std::size_t>(problem->target->part.value)], out);
-      out += kTargetResiduals;
-    }
-    for (std::size_t c = 0; c < problem->closures.size(); ++c) {
-      const auto [f1, f2] = a.connection_frames<T>(problem->closures[c], frames, x.data());
-      for (int i = 0; i < 3; ++i) out[i] = (f1.t[i] - f2.t[i]) * T(weight);
-      if (problem->free_axes[c]) {
-        const Vec3T<T> axis = problem->free_axes[c]->template cast<T>();
-        const Vec3T<T> d = f1.R * axis - f2.R * axis;
-        for (int i = 0; i < 3; ++i) out[3 + i] = d[i] * T(kRadToDeg * weight);
-        for (int i = 6; i < detail::kClosureResiduals; ++i) out[i] = T(0);
-      } else {
-        int k = 3;
-        for (int col = 0; col < 3; ++col) {
-          for (int row = 0; row < 3; ++row) {
-            out[k++] =
-                (f1.R(row, col) - f2.R(row, col)) * T(detail::kRotationResidualScale * weight);
-          }
-        }
-      }
-      out += detail::kClosureResiduals;
-    }
-    for (const detail::MultiConnectionPair& m : problem->multi) {
-      const T f = detail::multi_connection_value<T>(m, x.data());
-      *out++ = (f < T(0) ? f : T(0)) * T(weight);
-    }
-    return true;
-  }
-};
-
 class SplitMix {
  public:
   explicit SplitMix(std::uint64_t seed) : state_(seed) {}
@@ -334,113 +261,29 @@ double max_gap(const Assembly& a, const std::vector<double>& x, double* deg = nu
   return mm;
 }
 
-double multi_violation(const Problem& p, const std::vector<double>& x) {
-  double worst = 0;
-  for (const detail::MultiConnectionPair& m : p.multi) {
-    worst = std::max(worst, -detail::multi_connection_value<double>(m, x.data()));
-  }
-  return worst;
-}
+// ---- the functions both steps work with ---------------------------------------------------
 
-// Re-closes the cycles from `x` with a local least-squares solve (removes the penalty's
-// residual gap). Returns false if they do not close.
-bool polish_closures(const Assembly& a, std::vector<double>& x, const SolveOptions& o) {
-  if (a.cycle_connections().empty()) return true;
-  VerifyOptions v;
-  v.restarts = 1;
-  v.tolerance = 1e-16;
-  v.max_iterations = 50;
-  const detail::ClosureResult r = detail::close_cycles(a, x, v);
-  if (max_gap(a, r.x) <= o.closure_tolerance_mm) {
-    x = r.x;
-    return true;
-  }
-  return max_gap(a, x) <= o.closure_tolerance_mm;
-}
-
-struct Step1Result {
-  std::vector<double> x;
-  PoseError error;
-  int starts = 0;
-  bool closed = false;
-  bool hit_iteration_limit = false;
+enum class Objective {
+  kTarget,  ///< step 1: the target's pose residuals (least squares)
+  kEnergy,  ///< step 2: the mean height of the centres of mass (mm)
 };
 
-Step1Result run_step1(const Problem& p, const SolveOptions& o) {
-  const Assembly& a = *p.assembly;
-  Step1Result best;
-  best.x = a.values();
-  const std::vector<Mat4> frames0 = a.part_frames(best.x);
-  best.error = p.target ? pose_error(*p.target,
-                                     Rigid<double>::from_matrix(
-                                         frames0[static_cast<std::size_t>(p.target->part.value)]))
-                        : PoseError{};
-  best.closed = max_gap(a, best.x) <= o.closure_tolerance_mm;
-  if (!p.target) return best;
-
-  const Variables vars = select_variables(a, /*physics=*/false);
-  if (vars.index.empty()) return best;
-  auto* functor = new TargetCost{&p, &vars, a.values(), o.constraint_weight};
-  auto* cost = new ceres::DynamicAutoDiffCostFunction<TargetCost, 4>(functor);
-  cost->AddParameterBlock(static_cast<int>(vars.index.size()));
-  cost->SetNumResiduals(functor->residual_count());
-  std::vector<double> z(vars.index.size());
-  ceres::Problem problem;
-  problem.AddResidualBlock(cost, nullptr, z.data());
-  set_bounds(problem, z.data(), a, vars);
-  const ceres::Solver::Options options = least_squares_options(o.max_iterations);
-
-  SplitMix rng(o.seed);
-  auto score = [](const PoseError& e) {
-    return e.position_mm * e.position_mm + e.rotation_deg * e.rotation_deg;
-  };
-  double best_score = best.closed ? score(best.error) : std::numeric_limits<double>::infinity();
-  for (int start = 0; start < std::max(1, o.target_starts); ++start) {
-    const std::vector<double> z0 = to_z(vars, a.values());
-    for (std::size_t k = 0; k < z.size(); ++k) {
-      const ParamSpec& s = a.parameters()[static_cast<std::size_t>(vars.index[k])].spec;
-      z[k] = start == 0 ? z0[k] : (s.lo + rng.uniform() * (s.hi - s.lo)) / vars.scale[k];
-    }
-    ceres::Solver::Summary summary;
-    ceres::Solve(options, &problem, &summary);
-    best.starts = start + 1;
-    std::vector<double> x = a.values();
-    from_z(vars, z, x);
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      if (a.parameters()[i].spec.tag == ParamTag::kUnbounded) x[i] = wrap_360(x[i]);
-    }
-    if (!polish_closures(a, x, o)) continue;
-    if (multi_violation(p, x) > 1e-3) continue;
-    const std::vector<Mat4> frames = a.part_frames(x);
-    const PoseError e = pose_error(
-        *p.target,
-        Rigid<double>::from_matrix(frames[static_cast<std::size_t>(p.target->part.value)]));
-    if (score(e) < best_score - 1e-12) {
-      best_score = score(e);
-      best.x = x;
-      best.error = e;
-      best.closed = true;
-      best.hit_iteration_limit = summary.termination_type == ceres::NO_CONVERGENCE;
-    }
-  }
-  return best;
-}
-
-// ---- step 2: relaxation under gravity -----------------------------------------------------
-
-// Everything step 2 needs at one point, differentiated: [energy, equalities..., inequalities...].
-struct PhysicsCost {
+// [objective rows..., closure equalities..., multi-connection inequalities (≤ 0)...],
+// differentiated automatically.
+struct ManifoldCost {
   const Problem* problem;
   const Variables* vars;
   std::vector<double> base;
+  Objective objective;
 
+  int objective_count() const { return objective == Objective::kTarget ? kTargetResiduals : 1; }
   int equality_count() const {
     int n = 0;
     for (const auto& axis : problem->free_axes) n += axis ? 5 : 6;
     return n;
   }
   int residual_count() const {
-    return 1 + equality_count() + static_cast<int>(problem->multi.size());
+    return objective_count() + equality_count() + static_cast<int>(problem->multi.size());
   }
 
   template <class T>
@@ -448,22 +291,26 @@ struct PhysicsCost {
     const std::vector<T> x = expand<T>(*vars, base, params[0]);
     const Assembly& a = *problem->assembly;
     const std::vector<Rigid<T>> frames = a.all_part_frames<T>(x.data());
-    // Mass-weighted mean height of the centres of mass, mm.
-    T energy(0);
-    for (std::size_t i = 0; i < frames.size(); ++i) {
-      if (problem->masses[i] == 0) continue;
-      const Vec3T<T> com = frames[i].R * problem->coms[i].cast<T>() + frames[i].t;
-      energy += com[2] * T(problem->masses[i] / problem->total_mass);
+    if (objective == Objective::kTarget) {
+      target_residuals<T>(*problem->target,
+                          frames[static_cast<std::size_t>(problem->target->part.value)], out);
+    } else {
+      T energy(0);
+      for (std::size_t i = 0; i < frames.size(); ++i) {
+        if (problem->masses[i] == 0) continue;
+        const Vec3T<T> com = frames[i].R * problem->coms[i].cast<T>() + frames[i].t;
+        energy += com[2] * T(problem->masses[i] / problem->total_mass);
+      }
+      out[0] = energy;
     }
-    out[0] = energy;
-    T* eq = out + 1;
+    T* eq = out + objective_count();
     for (std::size_t c = 0; c < problem->closures.size(); ++c) {
       const auto [f1, f2] = a.connection_frames<T>(problem->closures[c], frames, x.data());
       for (int i = 0; i < 3; ++i) *eq++ = f1.t[i] - f2.t[i];
-      // Minimal orientation residuals (in the first frame), scaled to ≈ degrees·mm⁰.
+      // Minimal orientation residuals (≈ degrees), in the first connector's frame.
       const Mat3T<T> rel = f1.R.transpose() * f2.R;
       if (problem->free_axes[c]) {
-        // Only the free axis must line up: two components perpendicular to it.
+        // Only the free axis has to line up: two components across it.
         const Vec3 axis = *problem->free_axes[c];
         const Vec3 b = axis.unitOrthogonal();
         const Vec3 d = axis.cross(b);
@@ -477,18 +324,17 @@ struct PhysicsCost {
       }
     }
     for (const detail::MultiConnectionPair& m : problem->multi) {
-      *eq++ = -detail::multi_connection_value<T>(m, x.data());  // ≤ 0
+      *eq++ = -detail::multi_connection_value<T>(m, x.data());
     }
     return true;
   }
 };
 
-// Evaluates PhysicsCost with its Jacobian, caching the last point (NLopt asks for the
-// objective and the constraints separately at the same point).
-class PhysicsEvaluator {
+// Values and Jacobian of ManifoldCost, caching the last point.
+class ManifoldEvaluator {
  public:
-  PhysicsEvaluator(const Problem& p, const Variables& v, std::vector<double> base)
-      : functor_(new PhysicsCost{&p, &v, std::move(base)}),
+  ManifoldEvaluator(const Problem& p, const Variables& v, std::vector<double> base, Objective o)
+      : functor_(new ManifoldCost{&p, &v, std::move(base), o}),
         cost_(functor_),
         rows_(functor_->residual_count()),
         n_(static_cast<int>(v.index.size())) {
@@ -505,36 +351,28 @@ class PhysicsEvaluator {
     double* jac[] = {jacobian_.data()};
     cost_.Evaluate(blocks, values_.data(), jac);
   }
-  int rows() const { return rows_; }
+  int objectives() const { return functor_->objective_count(); }
   int equalities() const { return functor_->equality_count(); }
-  int inequalities() const { return rows_ - 1 - equalities(); }
+  int inequalities() const { return rows_ - objectives() - equalities(); }
   double value(int row) const { return values_[static_cast<std::size_t>(row)]; }
   double gradient(int row, int col) const {
     return jacobian_[static_cast<std::size_t>(row * n_ + col)];
   }
 
  private:
-  PhysicsCost* functor_;  // owned by cost_
-  ceres::DynamicAutoDiffCostFunction<PhysicsCost, 4> cost_;
+  ManifoldCost* functor_;  // owned by cost_
+  ceres::DynamicAutoDiffCostFunction<ManifoldCost, 4> cost_;
   int rows_;
   int n_;
   std::vector<double> last_, values_, jacobian_;
 };
 
-struct Step2Result {
+struct StepResult {
   std::vector<double> x;
   bool converged = true;
+  bool closed = true;
+  int iterations = 0;
   std::string note;
-};
-
-// One evaluation of step 2's functions at z: energy, gradient, the equality rows (cycle
-// closures) and the active inequality rows (multi-connection spacing), with Jacobians.
-struct Point {
-  Eigen::VectorXd z;
-  double energy = 0;
-  Eigen::VectorXd g;
-  Eigen::VectorXd h;  // equalities, then the active inequalities
-  Eigen::MatrixXd J;
 };
 
 struct StabilityReport {
@@ -553,123 +391,121 @@ std::string slip_message(const Assembly& a, int index, bool at_upper) {
   const double bound = at_upper ? p.spec.hi : p.spec.lo;
   const Primitive& prim = a.node(p.part).part->primitives[static_cast<std::size_t>(p.primitive)];
   if (prim.type == PrimitiveType::kHemisphere) {
-    return fmt::format(
-        "{} tips over on {} ({} = {:g}°)", a.label(p.part), owner, p.spec.name, bound);
-  }
-  if (p.spec.name == "phi") {
-    return fmt::format("{} tilts off {} (φ = {:g}°)", guest, owner, bound);
+    return fmt::format("{} tips over on {} ({} = {:g}°)", a.label(p.part), owner, p.spec.name,
+                       bound);
   }
   if (p.spec.is_angle()) {
     return fmt::format("{} slides off the open end of {} (θ = {:g}°)", guest, owner, bound);
   }
-  return fmt::format(
-      "{} slides off the open end of {} ({} = {:g})", guest, owner, p.spec.name, bound);
+  return fmt::format("{} slides off the open end of {} ({} = {:g})", guest, owner, p.spec.name,
+                     bound);
 }
 
-// Step 2 as a reduced-space Newton method on the constraint manifold: the closure equations
-// are kept exactly by projecting every trial point back onto them (minimum-norm Gauss-Newton,
-// which tolerates the redundant equations fixed joints create); bounds are an active set; the
-// Newton system uses the Hessian of the Lagrangian (finite differences of automatic
-// derivatives), with its eigenvalues made positive so every step descends. Directions the
-// energy does not change along (a hook on a level rod) get no gradient and therefore no step.
-class Relaxation {
+// Optimisation on the constraint manifold. Every iterate keeps the cycle closures exactly: a
+// trial step is projected back onto them by minimum-norm Gauss-Newton, which tolerates the
+// redundant equations fixed joints create. Bounds are an active set. Steps are taken in the
+// null space of the active constraints:
+//  - fit(): Levenberg-Marquardt on the target residuals (step 1);
+//  - relax(): Newton on the potential with the Hessian of the Lagrangian (finite differences
+//    of automatic derivatives), eigenvalues made positive so every step descends (step 2).
+// A direction the objective does not change along (a hook on a level rod) gets no step.
+class ManifoldSolver {
  public:
-  Relaxation(const Problem& p, const Variables& v, const std::vector<double>& x1)
-      : problem_(p), vars_(v), eval_(p, v, x1), n_(static_cast<int>(v.index.size())) {
+  ManifoldSolver(const Problem& p, const Variables& v, const std::vector<double>& x, Objective o)
+      : problem_(p), vars_(v), eval_(p, v, x, o), n_(static_cast<int>(v.index.size())) {
     lo_ = Eigen::VectorXd::Constant(n_, -std::numeric_limits<double>::infinity());
     hi_ = Eigen::VectorXd::Constant(n_, std::numeric_limits<double>::infinity());
     for (int k = 0; k < n_; ++k) {
-      const ParamSpec& s =
-          p.assembly->parameters()[static_cast<std::size_t>(v.index[static_cast<std::size_t>(k)])].spec;
+      const ParamSpec& s = p.assembly->parameters()[static_cast<std::size_t>(
+                                                       v.index[static_cast<std::size_t>(k)])]
+                               .spec;
       if (s.tag == ParamTag::kUnbounded) continue;
       lo_[k] = s.lo / v.scale[static_cast<std::size_t>(k)];
       hi_[k] = s.hi / v.scale[static_cast<std::size_t>(k)];
     }
   }
 
-  Step2Result run(const std::vector<double>& x1, int max_iterations) {
-    Step2Result out;
-    out.x = x1;
-    Eigen::VectorXd z = Eigen::Map<const Eigen::VectorXd>(to_z(vars_, x1).data(), n_);
-    z = z.cwiseMax(lo_).cwiseMin(hi_);
-    Point cur = evaluate(z, {});
-    if (!project(cur)) {
-      out.converged = false;
-      out.note = "relaxation could not keep the cycles closed";
-      return out;
-    }
+  StepResult fit(const std::vector<double>& x0, int max_iterations) {
+    StepResult out;
+    Point cur = start(x0, out);
+    if (!out.closed) return out;
+    double mu = 1e-4;
     int it = 0;
     for (; it < max_iterations; ++it) {
-      // Active bounds: at a bound, and the energy (after the constraints take their share)
-      // pushes further out.
-      const Eigen::VectorXd lambda = multipliers(cur, all_free(cur));
-      const Eigen::VectorXd reduced = cur.g - cur.J.transpose() * lambda;
-      std::vector<int> free;
-      for (int k = 0; k < n_; ++k) {
-        const int side = at_bound(cur.z, k);
-        if (side == 0 || side * reduced[k] > kGradTol) free.push_back(k);
+      const Active act = active_set(cur);
+      if (act.Z.cols() == 0) break;
+      const Eigen::MatrixXd A = columns(cur.Jr, act.free) * act.Z;
+      const Eigen::VectorXd b = A.transpose() * cur.r;
+      if (b.cwiseAbs().maxCoeff() < kGradTol) break;
+      Eigen::MatrixXd N = A.transpose() * A;
+      const double scale = std::max(1e-12, N.diagonal().maxCoeff());
+      bool moved = false;
+      for (int tries = 0; tries < 12 && !moved; ++tries) {
+        Eigen::MatrixXd M = N;
+        M.diagonal().array() += mu * scale;
+        const Eigen::VectorXd p = -M.ldlt().solve(b);
+        Point trial = step(cur, act, act.Z * p);
+        if (trial.valid && trial.f < cur.f) {
+          moved = cur.f - trial.f > 1e-14 * std::max(1.0, cur.f);
+          cur = std::move(trial);
+          mu = std::max(1e-12, mu / 3);
+          if (!moved) break;
+          moved = true;
+        } else {
+          mu *= 8;
+        }
       }
-      const Eigen::MatrixXd JF = columns(cur.J, free);
-      const Eigen::VectorXd gF = rows(cur.g, free);
-      const Eigen::MatrixXd Z = null_space(JF);
-      if (Z.cols() == 0) break;
-      const Eigen::VectorXd rg = Z.transpose() * gF;
-      if (std::getenv("FABKIT_DEBUG_SOLVE")) {
-        std::fprintf(stderr, "iter %d E=%.12g |rg|=%.3g free=%zu Z=%ld\n", it, cur.energy, rg.size() ? rg.cwiseAbs().maxCoeff() : 0.0, free.size(), (long)Z.cols());
-      }
+      if (!moved) break;
+    }
+    return finish(cur, it, max_iterations, out);
+  }
+
+  StepResult relax(const std::vector<double>& x0, int max_iterations) {
+    StepResult out;
+    Point cur = start(x0, out);
+    if (!out.closed) return out;
+    int it = 0;
+    for (; it < max_iterations; ++it) {
+      const Active act = active_set(cur);
+      if (act.Z.cols() == 0) break;
+      const Eigen::VectorXd rg = act.Z.transpose() * rows(cur.g, act.free);
       if (rg.cwiseAbs().maxCoeff() < kGradTol) break;  // equilibrium
-      const Eigen::VectorXd lam = multipliers(cur, free);
-      Eigen::MatrixXd H = Z.transpose() * lagrangian_hessian(cur, free, lam) * Z;
+      Eigen::MatrixXd H = act.Z.transpose() * lagrangian_hessian(cur, act) * act.Z;
       H = 0.5 * (H + H.transpose());
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
       const double floor = std::max(1e-10, 1e-8 * eig.eigenvalues().cwiseAbs().maxCoeff());
-      Eigen::VectorXd ev = eig.eigenvalues().cwiseAbs().cwiseMax(floor);
+      const Eigen::VectorXd ev = eig.eigenvalues().cwiseAbs().cwiseMax(floor);
       const Eigen::VectorXd p =
           -eig.eigenvectors() * (eig.eigenvectors().transpose() * rg).cwiseQuotient(ev);
-      Eigen::VectorXd d = Eigen::VectorXd::Zero(n_);
-      const Eigen::VectorXd dF = Z * p;
-      for (std::size_t i = 0; i < free.size(); ++i) d[free[i]] = dF[static_cast<int>(i)];
-      // Backtracking on the energy; every trial is projected back onto the constraints.
       bool moved = false;
-      const double slope = cur.g.dot(d);
+      const double slope = rg.dot(p);
       for (double alpha = 1.0; alpha > 1e-10; alpha *= 0.5) {
-        Point trial = evaluate((cur.z + alpha * d).cwiseMax(lo_).cwiseMin(hi_), free);
-        if (!project(trial)) continue;
-        if (trial.energy <= cur.energy + 1e-4 * alpha * std::min(slope, 0.0)) {
-          moved = trial.energy < cur.energy;
+        Point trial = step(cur, act, alpha * (act.Z * p));
+        if (!trial.valid) continue;
+        if (trial.f <= cur.f + 1e-4 * alpha * std::min(slope, 0.0)) {
+          moved = trial.f < cur.f;
           cur = std::move(trial);
           break;
         }
       }
       if (!moved) break;  // no further decrease within round-off
     }
-    out.converged = it < max_iterations;
-    Eigen::VectorXd zf = cur.z;
-    std::vector<double> zv(zf.data(), zf.data() + zf.size());
-    from_z(vars_, zv, out.x);
-    return out;
+    return finish(cur, it, max_iterations, out);
   }
 
-  /// The verdict at `x`: the equilibrium residual (largest slope of the potential along
-  /// directions the constraints and bounds allow, mm of mean height per mm or degree of
-  /// motion) and every OPEN parameter at its bound that the potential pulls further out.
+  /// The verdict at `x`: the equilibrium residual (largest slope of the potential along the
+  /// motions the connections and bounds allow, mm of mean height per mm or degree) and every
+  /// open bound that the potential pulls a connection out of.
   StabilityReport stability(const std::vector<double>& x, double fall_threshold) {
     StabilityReport report;
     const Assembly& a = *problem_.assembly;
-    Eigen::VectorXd z = Eigen::Map<const Eigen::VectorXd>(to_z(vars_, x).data(), n_);
-    const Point p = evaluate(z.cwiseMax(lo_).cwiseMin(hi_), {});
-    const std::vector<int> off = all_free(p);  // coordinates not at a bound
-    const Eigen::VectorXd lambda = multipliers(p, off);
-    const Eigen::VectorXd reduced = lambda.size() ? Eigen::VectorXd(p.g - p.J.transpose() * lambda) : p.g;
-    std::vector<int> free = off;
-    for (int k = 0; k < n_; ++k) {
-      const int side = at_bound(p.z, k);
-      if (side != 0 && side * reduced[k] > kGradTol) free.push_back(k);
+    const Point p = evaluate(to_vector(x));
+    const Active act = active_set(p);
+    if (act.Z.cols() > 0) {
+      report.equilibrium_residual =
+          (act.Z.transpose() * rows(p.g, act.free)).cwiseAbs().maxCoeff();
     }
-    std::sort(free.begin(), free.end());
-    const Eigen::MatrixXd Z = null_space(columns(p.J, free));
-    if (Z.cols() > 0) report.equilibrium_residual = (Z.transpose() * rows(p.g, free)).cwiseAbs().maxCoeff();
-
+    const std::vector<int> off = off_bounds(p);
     const Eigen::MatrixXd J_off = columns(p.J, off);
     for (int k = 0; k < n_; ++k) {
       const int side = at_bound(p.z, k);
@@ -677,8 +513,8 @@ class Relaxation {
       const int index = vars_.index[static_cast<std::size_t>(k)];
       const ParamSpec& spec = a.parameters()[static_cast<std::size_t>(index)].spec;
       if (!(side < 0 ? spec.open_at_lo : spec.open_at_hi)) continue;
-      // Move k outwards by one unit; the coordinates off their bounds follow so the cycles stay
-      // closed (minimum-norm correction). If they cannot, the move is blocked.
+      // Move k outwards by one unit; the coordinates off their bounds follow so the cycles
+      // stay closed (minimum-norm correction). If they cannot, the move is blocked.
       double slope = side * p.g[k];
       if (p.J.rows() > 0) {
         const Eigen::VectorXd rhs = -side * p.J.col(k);
@@ -699,8 +535,45 @@ class Relaxation {
   }
 
  private:
-  static constexpr double kGradTol = 1e-9;    // mm of mean height per mm of motion
-  static constexpr double kFeasTol = 1e-10;   // closure residual (mm, degrees)
+  static constexpr double kGradTol = 1e-9;   // objective slope per mm (or degree) of motion
+  static constexpr double kFeasTol = 1e-10;  // closure residual (mm, degrees)
+
+  struct Point {
+    Eigen::VectorXd z;
+    bool valid = true;
+    double f = 0;        // objective: ½‖r‖² or the potential
+    Eigen::VectorXd g;   // its gradient
+    Eigen::VectorXd r;   // target residuals (fit only)
+    Eigen::MatrixXd Jr;
+    Eigen::VectorXd h;   // closures, then active spacing constraints
+    Eigen::MatrixXd J;
+  };
+
+  struct Active {
+    std::vector<int> free;  // coordinates that may move
+    Eigen::MatrixXd Z;      // null space of the constraints on them
+  };
+
+  Eigen::VectorXd to_vector(const std::vector<double>& x) const {
+    const std::vector<double> z = to_z(vars_, x);
+    return Eigen::Map<const Eigen::VectorXd>(z.data(), n_).cwiseMax(lo_).cwiseMin(hi_);
+  }
+
+  Point start(const std::vector<double>& x0, StepResult& out) {
+    out.x = x0;
+    Point cur = evaluate(to_vector(x0));
+    out.closed = project(cur);
+    if (!out.closed) out.note = "the cycles could not be kept closed";
+    return cur;
+  }
+
+  StepResult& finish(const Point& cur, int iterations, int max_iterations, StepResult& out) {
+    out.iterations = iterations;
+    out.converged = iterations < max_iterations;
+    std::vector<double> z(cur.z.data(), cur.z.data() + cur.z.size());
+    from_z(vars_, z, out.x);
+    return out;
+  }
 
   int at_bound(const Eigen::VectorXd& z, int k) const {
     const double tol = 1e-9 * std::max(1.0, hi_[k] - lo_[k]);
@@ -709,7 +582,7 @@ class Relaxation {
     return 0;
   }
 
-  std::vector<int> all_free(const Point& p) const {
+  std::vector<int> off_bounds(const Point& p) const {
     std::vector<int> f;
     for (int k = 0; k < n_; ++k) {
       if (at_bound(p.z, k) == 0) f.push_back(k);
@@ -728,7 +601,7 @@ class Relaxation {
     return out;
   }
 
-  // Orthonormal basis of the null space of m (columns); all of R^n if m has no rows.
+  // Orthonormal basis of the null space of m; all of R^n if m has no rows.
   static Eigen::MatrixXd null_space(const Eigen::MatrixXd& m) {
     const int n = static_cast<int>(m.cols());
     if (m.rows() == 0 || n == 0) return Eigen::MatrixXd::Identity(n, n);
@@ -744,31 +617,57 @@ class Relaxation {
   static Eigen::VectorXd multipliers(const Point& p, const std::vector<int>& free) {
     if (p.J.rows() == 0) return Eigen::VectorXd();
     if (free.empty()) return Eigen::VectorXd::Zero(p.J.rows());
-    const Eigen::MatrixXd JF = columns(p.J, free);
-    const Eigen::VectorXd gF = rows(p.g, free);
-    return JF.transpose().completeOrthogonalDecomposition().solve(gF);
+    return columns(p.J, free).transpose().completeOrthogonalDecomposition().solve(rows(p.g, free));
   }
 
-  Point evaluate(const Eigen::VectorXd& z, const std::vector<int>& /*free*/) {
+  // Coordinates at a bound stay there unless the objective, after the constraints take their
+  // share, pulls them back inside.
+  Active active_set(const Point& p) const {
+    Active act;
+    const std::vector<int> off = off_bounds(p);
+    const Eigen::VectorXd lambda = multipliers(p, off);
+    const Eigen::VectorXd reduced =
+        lambda.size() ? Eigen::VectorXd(p.g - p.J.transpose() * lambda) : p.g;
+    for (int k = 0; k < n_; ++k) {
+      const int side = at_bound(p.z, k);
+      if (side == 0 || side * reduced[k] > kGradTol) act.free.push_back(k);
+    }
+    act.Z = null_space(columns(p.J, act.free));
+    return act;
+  }
+
+  Point evaluate(const Eigen::VectorXd& z) {
     Point p;
     p.z = z;
     eval_.evaluate(z.data());
+    const int no = eval_.objectives();
     const int m = eval_.equalities();
-    std::vector<int> active_ineq;
+    std::vector<int> active;
     for (int i = 0; i < eval_.inequalities(); ++i) {
-      if (eval_.value(1 + m + i) > -1e-6) active_ineq.push_back(1 + m + i);
+      if (eval_.value(no + m + i) > -1e-6) active.push_back(no + m + i);
     }
-    const int rows_total = m + static_cast<int>(active_ineq.size());
-    p.energy = eval_.value(0);
-    p.g.resize(n_);
+    const int rows_total = m + static_cast<int>(active.size());
     p.h.resize(rows_total);
     p.J.resize(rows_total, n_);
-    for (int k = 0; k < n_; ++k) p.g[k] = eval_.gradient(0, k);
     for (int r = 0; r < rows_total; ++r) {
-      const int row = r < m ? 1 + r : active_ineq[static_cast<std::size_t>(r - m)];
-      // Inequalities enter as equalities only while active; a satisfied one contributes 0.
+      const int row = r < m ? no + r : active[static_cast<std::size_t>(r - m)];
+      // A spacing constraint binds only while active; a satisfied one contributes 0.
       p.h[r] = r < m ? eval_.value(row) : std::max(0.0, eval_.value(row));
       for (int k = 0; k < n_; ++k) p.J(r, k) = eval_.gradient(row, k);
+    }
+    if (no == 1) {
+      p.f = eval_.value(0);
+      p.g.resize(n_);
+      for (int k = 0; k < n_; ++k) p.g[k] = eval_.gradient(0, k);
+    } else {
+      p.r.resize(no);
+      p.Jr.resize(no, n_);
+      for (int i = 0; i < no; ++i) {
+        p.r[i] = eval_.value(i);
+        for (int k = 0; k < n_; ++k) p.Jr(i, k) = eval_.gradient(i, k);
+      }
+      p.f = 0.5 * p.r.squaredNorm();
+      p.g = p.Jr.transpose() * p.r;
     }
     return p;
   }
@@ -777,38 +676,45 @@ class Relaxation {
   bool project(Point& p) {
     for (int iter = 0; iter < 30; ++iter) {
       if (p.h.size() == 0 || p.h.cwiseAbs().maxCoeff() < kFeasTol) return true;
-      const std::vector<int> free = all_free(p);
+      const std::vector<int> free = off_bounds(p);
       if (free.empty()) return false;
-      const Eigen::MatrixXd JF = columns(p.J, free);
-      const Eigen::VectorXd step = JF.completeOrthogonalDecomposition().solve(-p.h);
+      const Eigen::VectorXd delta = columns(p.J, free).completeOrthogonalDecomposition().solve(-p.h);
       Eigen::VectorXd z = p.z;
-      for (std::size_t i = 0; i < free.size(); ++i) z[free[i]] += step[static_cast<int>(i)];
+      for (std::size_t i = 0; i < free.size(); ++i) z[free[i]] += delta[static_cast<int>(i)];
       const double before = p.h.norm();
-      p = evaluate(z.cwiseMax(lo_).cwiseMin(hi_), free);
+      p = evaluate(z.cwiseMax(lo_).cwiseMin(hi_));
       if (p.h.norm() > before && iter > 3) return false;
     }
     return p.h.size() == 0 || p.h.cwiseAbs().maxCoeff() < 1e-7;
   }
 
-  // Hessian of E - λᵀh on the free coordinates, by central differences of the exact
-  // gradients.
-  Eigen::MatrixXd lagrangian_hessian(const Point& p, const std::vector<int>& free,
-                                     const Eigen::VectorXd& lambda) {
-    const int nf = static_cast<int>(free.size());
+  Point step(const Point& from, const Active& act, const Eigen::VectorXd& dF) {
+    Eigen::VectorXd z = from.z;
+    for (std::size_t i = 0; i < act.free.size(); ++i) z[act.free[i]] += dF[static_cast<int>(i)];
+    Point trial = evaluate(z.cwiseMax(lo_).cwiseMin(hi_));
+    trial.valid = project(trial);
+    return trial;
+  }
+
+  // Hessian of f - λᵀh on the free coordinates, by central differences of exact gradients.
+  Eigen::MatrixXd lagrangian_hessian(const Point& p, const Active& act) {
+    const Eigen::VectorXd lambda = multipliers(p, act.free);
+    const int nf = static_cast<int>(act.free.size());
     Eigen::MatrixXd H(nf, nf);
     auto grad_l = [&](const Eigen::VectorXd& z) {
-      const Point q = evaluate(z, free);
+      const Point q = evaluate(z);
       Eigen::VectorXd gl = q.g;
       if (lambda.size() && q.J.rows() >= lambda.size()) {
         gl -= q.J.topRows(lambda.size()).transpose() * lambda;
       }
-      return rows(gl, free);
+      return rows(gl, act.free);
     };
     for (int i = 0; i < nf; ++i) {
-      const double eps = 1e-5 * std::max(1.0, std::abs(p.z[free[static_cast<std::size_t>(i)]]));
+      const int k = act.free[static_cast<std::size_t>(i)];
+      const double eps = 1e-5 * std::max(1.0, std::abs(p.z[k]));
       Eigen::VectorXd zp = p.z, zm = p.z;
-      zp[free[static_cast<std::size_t>(i)]] += eps;
-      zm[free[static_cast<std::size_t>(i)]] -= eps;
+      zp[k] += eps;
+      zm[k] -= eps;
       H.col(i) = (grad_l(zp) - grad_l(zm)) / (2 * eps);
     }
     return H;
@@ -816,33 +722,103 @@ class Relaxation {
 
   const Problem& problem_;
   const Variables& vars_;
-  PhysicsEvaluator eval_;
+  ManifoldEvaluator eval_;
   int n_;
   Eigen::VectorXd lo_, hi_;
 };
 
-Step2Result run_step2(const Problem& p,
-                      const Variables& vars,
-                      const std::vector<double>& x1,
-                      const SolveOptions& o) {
+// ---- step 1: the target -------------------------------------------------------------------
+
+struct Step1Result {
+  std::vector<double> x;
+  PoseError error;
+  int starts = 0;
+  bool closed = false;
+  bool hit_iteration_limit = false;
+};
+
+PoseError error_at(const Problem& p, const std::vector<double>& x) {
+  const std::vector<Mat4> frames = p.assembly->part_frames(x);
+  return pose_error(*p.target, Rigid<double>::from_matrix(
+                                   frames[static_cast<std::size_t>(p.target->part.value)]));
+}
+
+// Start 0 is the configuration the connects verified; the others are seeded random
+// configurations, closed first by the verification's cycle search.
+Step1Result run_step1(const Problem& p, const SolveOptions& o) {
+  const Assembly& a = *p.assembly;
+  Step1Result best;
+  best.x = a.values();
+  best.closed = true;
+  if (!p.target) return best;
+  best.error = error_at(p, best.x);
+  const Variables vars = select_variables(a, /*physics=*/false);
+  if (vars.index.empty()) return best;
+
+  auto score = [](const PoseError& e) {
+    return e.position_mm * e.position_mm + e.rotation_deg * e.rotation_deg;
+  };
+  double best_score = score(best.error);
+  SplitMix rng(o.seed);
+  for (int start = 0; start < std::max(1, o.target_starts); ++start) {
+    std::vector<double> x0 = a.values();
+    if (start > 0) {
+      for (int v : vars.index) {
+        const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
+        x0[static_cast<std::size_t>(v)] = s.lo + rng.uniform() * (s.hi - s.lo);
+      }
+      if (!a.cycle_connections().empty()) {
+        VerifyOptions v;
+        v.restarts = 1;
+        const detail::ClosureResult closed = detail::close_cycles(a, x0, v);
+        if (!closed.closed) continue;
+        x0 = closed.x;
+      }
+    }
+    ManifoldSolver solver(p, vars, x0, Objective::kTarget);
+    StepResult r = solver.fit(x0, o.max_iterations);
+    best.starts = start + 1;
+    if (std::getenv("FABKIT_DEBUG_SOLVE")) {
+      std::fprintf(stderr, "step1 start %d: %d iterations, closed %d\n", start, r.iterations,
+                   r.closed);
+    }
+    if (!r.closed) continue;
+    for (std::size_t i = 0; i < r.x.size(); ++i) {
+      if (a.parameters()[i].spec.tag == ParamTag::kUnbounded) r.x[i] = wrap_360(r.x[i]);
+    }
+    const PoseError e = error_at(p, r.x);
+    if (score(e) < best_score - 1e-9) {
+      best_score = score(e);
+      best.x = r.x;
+      best.error = e;
+      best.hit_iteration_limit = !r.converged;
+    }
+  }
+  return best;
+}
+
+// ---- step 2 and the verdict ----------------------------------------------------------------
+
+StepResult run_step2(const Problem& p,
+                     const Variables& vars,
+                     const std::vector<double>& x1,
+                     const SolveOptions& o) {
   if (vars.index.empty() || p.total_mass <= 0) {
-    Step2Result out;
+    StepResult out;
     out.x = x1;
     return out;
   }
-  Relaxation relaxation(p, vars, x1);
-  return relaxation.run(x1, o.max_iterations);
+  ManifoldSolver solver(p, vars, x1, Objective::kEnergy);
+  return solver.relax(x1, o.max_iterations);
 }
-
-// ---- stability ----------------------------------------------------------------------------
 
 StabilityReport check_stability(const Problem& p,
                                 const Variables& vars,
                                 const std::vector<double>& x,
                                 const SolveOptions& o) {
   if (vars.index.empty() || p.total_mass <= 0) return {};
-  Relaxation relaxation(p, vars, x);
-  return relaxation.stability(x, o.fall_threshold);
+  ManifoldSolver solver(p, vars, x, Objective::kEnergy);
+  return solver.stability(x, o.fall_threshold);
 }
 
 }  // namespace
@@ -921,12 +897,12 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   if (options.relax) {
     announce("step2");
     auto t2 = Clock::now();
-    Step2Result step2 = run_step2(problem, vars, step1.x, options);
+    StepResult step2 = run_step2(problem, vars, step1.x, options);
     x = step2.x;
     for (std::size_t i = 0; i < x.size(); ++i) {
       if (assembly.parameters()[i].spec.tag == ParamTag::kUnbounded) x[i] = wrap_360(x[i]);
     }
-    if (!polish_closures(assembly, x, options)) {
+    if (!step2.closed || max_gap(assembly, x) > options.closure_tolerance_mm) {
       result.diagnostics.warning(DiagnosticCode::kCycleNotClosable,
                                  "relaxation left a cycle open by more than the tolerance");
     }
@@ -1015,8 +991,9 @@ std::string SolveResult::summary() const {
                    target.rotation_deg);
   s += fmt::format(
       "  {:<28}{:.2e} mm, {:.2e}°\n", "largest connection gap", max_gap_mm, max_gap_deg);
-  s += fmt::format(
-      "  {:<28}{:.2e} mm per unit parameter\n", "equilibrium residual", equilibrium_residual);
+  s += fmt::format("  {:<28}{:.2e} (slope of the potential, mm per mm or degree)\n",
+                   "equilibrium residual",
+                   equilibrium_residual);
   for (const Slip& slip : slips) s += fmt::format("  {:<28}{}\n", "slips", slip.message);
   for (const std::string& n : stability_notes) s += fmt::format("  {:<28}{}\n", "note", n);
   std::string times;
