@@ -369,6 +369,12 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
       if (options.fixed || has_clip) s.fixed_under_physics = true;
     }
   }
+  // Friction keeps a resting object where it stands: a surface contact does not slide or spin
+  // under gravity (tipping over a hemisphere's rim still can happen).
+  for (auto [prim, ps] : {std::pair{&p1, &params1}, std::pair{&p2, &params2}}) {
+    if (prim->type != PrimitiveType::kSurface) continue;
+    for (ParamSpec& s : *ps) s.fixed_under_physics = true;
+  }
 
   const AlignmentOffset align = alignment_offset(k1, k2);
   if (options.alignment == AlignmentChoice::kFlip && !align.flippable()) {

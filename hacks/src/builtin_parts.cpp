@@ -574,8 +574,9 @@ Part plastic_clip() {
 Part reading_room() {
   auto r1 = rod("rod1", 10, 1500, {-175, 1030, 1283}, {0, 90, 0});
   auto r2 = rod("rod2", 2.5, 20, {72.2, -1375, 1293.7}, {120, 0, 0});
-  // The pin's t = 1 end is in the wall (y = -1383): only its tip is open.
-  r2.open_ends = {true, false};
+  // The pin is a screw: its t = 1 end is in the wall (y = -1383) and its head closes the tip,
+  // so a hook hung on it cannot slide off either end (it can still be hooked on).
+  r2.open_ends = {false, false};
   // Floor and the two facing walls: rod1 on brackets in front of one, the pin (rod2) stuck in
   // the other.
   TriangleMesh body = box_between({-1000, -1405, -20}, {1000, 1100, 0});
