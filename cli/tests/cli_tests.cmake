@@ -20,7 +20,7 @@ file(MAKE_DIRECTORY ${tmp})
 expect_run(0 "basket between rods: valid" check ${SOURCE_DIR}/examples/hacks/basket_between_rods.yaml)
 expect_run(0 "closes cycle rods.rod2 – eyehook2 – basket – eyehook1 – rods.rod1"
            check ${SOURCE_DIR}/examples/hacks/basket_between_rods.yaml)
-expect_run(0 "bird feeder: valid" demo)
+expect_run(0 "verdict                     STABLE" demo -o ${tmp}/demo0)
 expect_run(0 "DoubleHook" parts)
 expect_run(0 "hook1        hook (arc angle 270°" parts DoubleHook)
 # 1: usage.
@@ -42,3 +42,16 @@ file(WRITE ${tmp}/infeasible.yaml
 "environment:\n  - {name: rods, part: LongTensionRod}\nparts:\n  - {name: s, part: DoubleHook}\nconnections:\n  - connect: [s.hook1, rods.rod]\n")
 expect_run(3 "infeasible.yaml:6:5: error: s.hook1: hook opening 11.6 mm is smaller than rod radius 12.7 mm (rods.rod)"
            check ${tmp}/infeasible.yaml)
+
+# solve: 0 stable (and the outputs), 4 falls apart, 3 infeasible, 2 bad input.
+expect_run(0 "verdict                     STABLE" solve ${SOURCE_DIR}/examples/hacks/bird_feeder.yaml -o ${tmp}/bird)
+foreach(f result.json scene.glb assembly.stl assembly.obj)
+  if(NOT EXISTS ${tmp}/bird/${f})
+    message(FATAL_ERROR "fabkit solve -o did not write ${f}")
+  endif()
+endforeach()
+expect_run(4 "falls apart: shook.hook1 slides off the open end of bar.rod (t = 0)"
+           solve ${SOURCE_DIR}/examples/failing/hook_on_tilted_rod.yaml)
+expect_run(3 "hook opening 11.6 mm is smaller than rod radius 12.7 mm" solve ${tmp}/infeasible.yaml)
+expect_run(2 "YAML syntax error" solve ${tmp}/syntax.yaml)
+expect_run(0 "wrote ${tmp}/demo/result.json" demo -o ${tmp}/demo)

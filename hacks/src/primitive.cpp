@@ -252,40 +252,40 @@ std::vector<ParamSpec> Primitive::connector_params() const {
   };
 
   std::vector<ParamSpec> out = [&]() -> std::vector<ParamSpec> {
-  switch (connector_kind()) {
-    case ConnectorKind::kRod:
-      return {frac("t"), angle("phi", 90, phi[0], phi[1])};
-    case ConnectorKind::kRodCenterline:
-      return {frac("t")};
-    case ConnectorKind::kHook:
-      return {hook_theta()};
-    case ConnectorKind::kHookFlex:
-      return {hook_theta(), angle("phi", 90, phi[0], phi[1])};
-    case ConnectorKind::kRing:
-      return {spin("theta", 180)};
-    case ConnectorKind::kRingFlex: {
-      const std::array<double, 2> rp = phi_range.value_or(std::array<double, 2>{30.0, 150.0});
-      return {spin("theta", 180), angle("phi", 90, rp[0], rp[1])};
+    switch (connector_kind()) {
+      case ConnectorKind::kRod:
+        return {frac("t"), angle("phi", 90, phi[0], phi[1])};
+      case ConnectorKind::kRodCenterline:
+        return {frac("t")};
+      case ConnectorKind::kHook:
+        return {hook_theta()};
+      case ConnectorKind::kHookFlex:
+        return {hook_theta(), angle("phi", 90, phi[0], phi[1])};
+      case ConnectorKind::kRing:
+        return {spin("theta", 180)};
+      case ConnectorKind::kRingFlex: {
+        const std::array<double, 2> rp = phi_range.value_or(std::array<double, 2>{30.0, 150.0});
+        return {spin("theta", 180), angle("phi", 90, rp[0], rp[1])};
+      }
+      case ConnectorKind::kRingCenterline:
+        return {spin("v0", 0), spin("v1", 180)};
+      case ConnectorKind::kTube:
+      case ConnectorKind::kTubeCenterline:
+        return {frac("t"), spin("theta", 180)};
+      case ConnectorKind::kClip: {
+        ParamSpec t = frac("t");
+        t.critical_dim = false;
+        t.fixed_under_physics = true;
+        return {t};
+      }
+      case ConnectorKind::kEdge:
+        return {frac("t")};
+      case ConnectorKind::kSurface:
+        return {frac("t1"), frac("t2"), spin("s", 0)};
+      case ConnectorKind::kHemisphere:
+        return {angle("theta", 180, 90, 270), angle("phi", 180, 90, 270), spin("s", 0)};
     }
-    case ConnectorKind::kRingCenterline:
-      return {spin("v0", 0), spin("v1", 180)};
-    case ConnectorKind::kTube:
-    case ConnectorKind::kTubeCenterline:
-      return {frac("t"), spin("theta", 180)};
-    case ConnectorKind::kClip: {
-      ParamSpec t = frac("t");
-      t.critical_dim = false;
-      t.fixed_under_physics = true;
-      return {t};
-    }
-    case ConnectorKind::kEdge:
-      return {frac("t")};
-    case ConnectorKind::kSurface:
-      return {frac("t1"), frac("t2"), spin("s", 0)};
-    case ConnectorKind::kHemisphere:
-      return {angle("theta", 180, 90, 270), angle("phi", 180, 90, 270), spin("s", 0)};
-  }
-  return {};
+    return {};
   }();
   // Which bounds a connection can run out of: sliding along an open rod, tube, edge or hook
   // arc (per end), rolling off a hemisphere's rim. Clip jaws are pinned under physics.

@@ -10,10 +10,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
-#include <memory>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+#include <memory>
 #include <set>
 
 #include "constraints.h"
@@ -292,8 +292,8 @@ struct ManifoldCost {
     const Assembly& a = *problem->assembly;
     const std::vector<Rigid<T>> frames = a.all_part_frames<T>(x.data());
     if (objective == Objective::kTarget) {
-      target_residuals<T>(*problem->target,
-                          frames[static_cast<std::size_t>(problem->target->part.value)], out);
+      target_residuals<T>(
+          *problem->target, frames[static_cast<std::size_t>(problem->target->part.value)], out);
     } else {
       T energy(0);
       for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -391,14 +391,14 @@ std::string slip_message(const Assembly& a, int index, bool at_upper) {
   const double bound = at_upper ? p.spec.hi : p.spec.lo;
   const Primitive& prim = a.node(p.part).part->primitives[static_cast<std::size_t>(p.primitive)];
   if (prim.type == PrimitiveType::kHemisphere) {
-    return fmt::format("{} tips over on {} ({} = {:g}°)", a.label(p.part), owner, p.spec.name,
-                       bound);
+    return fmt::format(
+        "{} tips over on {} ({} = {:g}°)", a.label(p.part), owner, p.spec.name, bound);
   }
   if (p.spec.is_angle()) {
     return fmt::format("{} slides off the open end of {} (θ = {:g}°)", guest, owner, bound);
   }
-  return fmt::format("{} slides off the open end of {} ({} = {:g})", guest, owner, p.spec.name,
-                     bound);
+  return fmt::format(
+      "{} slides off the open end of {} ({} = {:g})", guest, owner, p.spec.name, bound);
 }
 
 // Optimisation on the constraint manifold. Every iterate keeps the cycle closures exactly: a
@@ -416,9 +416,9 @@ class ManifoldSolver {
     lo_ = Eigen::VectorXd::Constant(n_, -std::numeric_limits<double>::infinity());
     hi_ = Eigen::VectorXd::Constant(n_, std::numeric_limits<double>::infinity());
     for (int k = 0; k < n_; ++k) {
-      const ParamSpec& s = p.assembly->parameters()[static_cast<std::size_t>(
-                                                       v.index[static_cast<std::size_t>(k)])]
-                               .spec;
+      const ParamSpec& s =
+          p.assembly->parameters()[static_cast<std::size_t>(v.index[static_cast<std::size_t>(k)])]
+              .spec;
       if (s.tag == ParamTag::kUnbounded) continue;
       lo_[k] = s.lo / v.scale[static_cast<std::size_t>(k)];
       hi_[k] = s.hi / v.scale[static_cast<std::size_t>(k)];
@@ -466,7 +466,8 @@ class ManifoldSolver {
     if (!out.closed) return out;
     int it = 0;
     for (; it < max_iterations; ++it) {
-      if (std::getenv("FABKIT_DEBUG_SOLVE")) std::fprintf(stderr, "relax %d f=%.12g evals=%d\n", it, cur.f, evaluations_);
+      if (std::getenv("FABKIT_DEBUG_SOLVE"))
+        std::fprintf(stderr, "relax %d f=%.12g evals=%d\n", it, cur.f, evaluations_);
       const Active act = active_set(cur);
       if (act.Z.cols() == 0) break;
       const Eigen::VectorXd rg = act.Z.transpose() * rows(cur.g, act.free);
@@ -503,8 +504,7 @@ class ManifoldSolver {
     const Point p = evaluate(to_vector(x));
     const Active act = active_set(p);
     if (act.Z.cols() > 0) {
-      report.equilibrium_residual =
-          (act.Z.transpose() * rows(p.g, act.free)).cwiseAbs().maxCoeff();
+      report.equilibrium_residual = (act.Z.transpose() * rows(p.g, act.free)).cwiseAbs().maxCoeff();
     }
     const std::vector<int> off = off_bounds(p);
     const Eigen::MatrixXd J_off = columns(p.J, off);
@@ -542,11 +542,11 @@ class ManifoldSolver {
   struct Point {
     Eigen::VectorXd z;
     bool valid = true;
-    double f = 0;        // objective: ½‖r‖² or the potential
-    Eigen::VectorXd g;   // its gradient
-    Eigen::VectorXd r;   // target residuals (fit only)
+    double f = 0;       // objective: ½‖r‖² or the potential
+    Eigen::VectorXd g;  // its gradient
+    Eigen::VectorXd r;  // target residuals (fit only)
     Eigen::MatrixXd Jr;
-    Eigen::VectorXd h;   // closures, then active spacing constraints
+    Eigen::VectorXd h;  // closures, then active spacing constraints
     Eigen::MatrixXd J;
   };
 
@@ -680,7 +680,8 @@ class ManifoldSolver {
       if (p.h.size() == 0 || p.h.cwiseAbs().maxCoeff() < kFeasTol) return true;
       const std::vector<int> free = off_bounds(p);
       if (free.empty()) return false;
-      const Eigen::VectorXd delta = columns(p.J, free).completeOrthogonalDecomposition().solve(-p.h);
+      const Eigen::VectorXd delta =
+          columns(p.J, free).completeOrthogonalDecomposition().solve(-p.h);
       Eigen::VectorXd z = p.z;
       for (std::size_t i = 0; i < free.size(); ++i) z[free[i]] += delta[static_cast<int>(i)];
       const double before = p.h.norm();
@@ -741,8 +742,9 @@ struct Step1Result {
 
 PoseError error_at(const Problem& p, const std::vector<double>& x) {
   const std::vector<Mat4> frames = p.assembly->part_frames(x);
-  return pose_error(*p.target, Rigid<double>::from_matrix(
-                                   frames[static_cast<std::size_t>(p.target->part.value)]));
+  return pose_error(
+      *p.target,
+      Rigid<double>::from_matrix(frames[static_cast<std::size_t>(p.target->part.value)]));
 }
 
 // Start 0 is the configuration the connects verified; the others are seeded random
@@ -784,8 +786,8 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     StepResult r = solver.fit(x0, start == 0 ? o.max_iterations : o.max_iterations / 5);
     best.starts = start + 1;
     if (std::getenv("FABKIT_DEBUG_SOLVE")) {
-      std::fprintf(stderr, "step1 start %d: %d iterations, closed %d\n", start, r.iterations,
-                   r.closed);
+      std::fprintf(
+          stderr, "step1 start %d: %d iterations, closed %d\n", start, r.iterations, r.closed);
     }
     if (!r.closed) continue;
     for (std::size_t i = 0; i < r.x.size(); ++i) {

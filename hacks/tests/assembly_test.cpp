@@ -173,8 +173,8 @@ TEST(Assembly, EndWithTargetsThePartsFirstPrimitive) {
   EXPECT_LT((a.target()->frame.matrix() - goal.matrix()).norm(), 1e-12);
   EXPECT_TRUE(a.end_with(PrimitiveRef(bottle, "surface"), goal).empty());
   EXPECT_EQ(a.target()->primitive, 1);
-  EXPECT_TRUE(testing::has_diagnostic(a.end_with(env, Frame()), DiagnosticCode::kTargetMissing,
-                                      "is an environment"));
+  EXPECT_TRUE(testing::has_diagnostic(
+      a.end_with(env, Frame()), DiagnosticCode::kTargetMissing, "is an environment"));
 }
 
 TEST(Assembly, SingleConnectionPrimitivesHoldOneThing) {

@@ -18,7 +18,7 @@ struct SolveOptions {
   int target_starts = 4;           ///< step 1: starts (the verified configuration + seeded random)
   std::uint64_t seed = 1;          ///< seeds step 1's random starts
   double constraint_weight = 100;  ///< step 1: weight of constraint residuals against the target's
-  double closure_tolerance_mm = 1e-6;   ///< connections must close to this after each step
+  double closure_tolerance_mm = 1e-6;  ///< connections must close to this after each step
   /// An OPEN parameter at its bound falls off when moving beyond it lowers the assembly's
   /// mean centre-of-mass height by more than this (mm per mm of sliding, or per degree).
   double fall_threshold = 1e-6;
@@ -81,7 +81,7 @@ struct SolveResult {
   /// Largest slope of the potential (mean centre-of-mass height, mm) along any motion the
   /// connections and bounds allow, per mm of sliding or degree of turning; ~0 at equilibrium.
   double equilibrium_residual = 0;
-  double energy = 0;                ///< Σ m·z_com (mass units · mm)
+  double energy = 0;  ///< Σ m·z_com (mass units · mm)
   int step1_starts = 0;
   std::vector<StageTiming> timings;
   Diagnostics diagnostics;
