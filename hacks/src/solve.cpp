@@ -439,8 +439,8 @@ class AnalyticEvaluator {
     const int no = cost_.objective_count();
     std::optional<Rigid<double>> target_frame;
     if (objective_ == Objective::kTarget) {
-      target_frame = frames[static_cast<std::size_t>(problem_.target->part.value)].then(
-          problem_.target->base);
+      target_frame =
+          frames[static_cast<std::size_t>(problem_.target->part.value)].then(problem_.target->base);
     }
 
     for (int k = 0; k < n_; ++k) {
@@ -510,7 +510,9 @@ class AnalyticEvaluator {
           double g = 0;
           if (idx == m.params_j[a_i]) g = -sgn * m.length[a_i];
           if (idx == m.params_i[a_i]) g = sgn * m.length[a_i];
-          if (g != 0) jacobian_[static_cast<std::size_t>(row * n_ + k)] += g * vars_.scale[static_cast<std::size_t>(k)];
+          if (g != 0)
+            jacobian_[static_cast<std::size_t>(row * n_ + k)] +=
+                g * vars_.scale[static_cast<std::size_t>(k)];
         }
       }
       ++row;
@@ -597,8 +599,13 @@ class AnalyticEvaluator {
   }
 
   template <class Put>
-  int closure_derivative(std::size_t i, const Rigid<double>& f1, const Rigid<double>& f2,
-                         const Twist& t1, const Twist& t2, int row, Put put) const {
+  int closure_derivative(std::size_t i,
+                         const Rigid<double>& f1,
+                         const Rigid<double>& f2,
+                         const Twist& t1,
+                         const Twist& t2,
+                         int row,
+                         Put put) const {
     const Vec3 dp = t1.velocity(f1.t) - t2.velocity(f2.t);
     for (int a = 0; a < 3; ++a) put(row++, dp[a]);
     // d(R1ᵀ R2) = R1ᵀ [w2 - w1]× R2.
