@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "fabkit/core/mesh_io.h"
+#include "fabkit/core/svg_preview.h"
 
 namespace fabkit::hacks {
 namespace {
@@ -164,7 +165,9 @@ bool export_solution(const Assembly& assembly,
   }
   bool ok = write_text(
       directory / "result.json", result_json(assembly, result, options.design_name), diags);
-  ok = write_glb(solution_scene(assembly, result), directory / "scene.glb", diags) && ok;
+  const std::vector<SceneObject> scene = solution_scene(assembly, result);
+  ok = write_glb(scene, directory / "scene.glb", diags) && ok;
+  ok = write_svg_preview(scene, directory / "preview.svg", diags) && ok;
   const TriangleMesh mesh = solution_mesh(assembly, result);
   ok = write_stl(mesh, directory / (options.basename + ".stl"), diags) && ok;
   ok = write_obj(mesh, directory / (options.basename + ".obj"), diags) && ok;

@@ -1,5 +1,6 @@
 #pragma once
-/// Exports of a solved assembly: result.json (docs/result-format.md), scene.glb, STL, OBJ.
+/// Exports of a solved assembly: result.json (docs/result-format.md), scene.glb, a preview
+/// picture (preview.svg), STL, OBJ.
 
 #include <filesystem>
 #include <string>
@@ -31,7 +32,7 @@ struct ExportOptions {
   std::string basename = "assembly";  ///< <basename>.stl / .obj
 };
 
-/// Writes result.json, scene.glb, <basename>.stl and <basename>.obj into `directory`
+/// Writes result.json, scene.glb, preview.svg, <basename>.stl and <basename>.obj into `directory`
 /// (created if needed). Each file is written atomically; returns false with diagnostics if
 /// any could not be written.
 bool export_solution(const Assembly& assembly,
