@@ -1,15 +1,17 @@
 #include "fabkit/core/svg_preview.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <fstream>
 #include <system_error>
 
-#include <fmt/format.h>
-
 namespace fabkit {
 
-bool write_svg_preview(const std::vector<SceneObject>& objects, const std::filesystem::path& path,
-                       Diagnostics& diags, const SvgPreviewOptions& options) {
+bool write_svg_preview(const std::vector<SceneObject>& objects,
+                       const std::filesystem::path& path,
+                       Diagnostics& diags,
+                       const SvgPreviewOptions& options) {
   // Camera basis: right, up, forward.
   const Vec3 forward = options.view_direction.normalized();
   const Vec3 right = forward.cross(options.up).normalized();
@@ -68,13 +70,22 @@ bool write_svg_preview(const std::vector<SceneObject>& objects, const std::files
   for (const Tri& t : tris) {
     auto px = [&](const Eigen::Vector2d& p) { return Eigen::Vector2d((p - lo) * scale + offset); };
     const Eigen::Vector2d a = px(t.p[0]), b = px(t.p[1]), c = px(t.p[2]);
-    auto channel = [&](float v) { return static_cast<int>(std::clamp(v * t.shade, 0.0, 1.0) * 255); };
-    const std::string fill = fmt::format("#{:02x}{:02x}{:02x}", channel(t.color[0]),
-                                         channel(t.color[1]), channel(t.color[2]));
+    auto channel = [&](float v) {
+      return static_cast<int>(std::clamp(v * t.shade, 0.0, 1.0) * 255);
+    };
+    const std::string fill = fmt::format(
+        "#{:02x}{:02x}{:02x}", channel(t.color[0]), channel(t.color[1]), channel(t.color[2]));
     svg += fmt::format(
         "<path d=\"M{:.1f} {:.1f}L{:.1f} {:.1f}L{:.1f} {:.1f}Z\" fill=\"{}\" stroke=\"{}\" "
         "stroke-width=\"0.3\"/>\n",
-        a.x(), a.y(), b.x(), b.y(), c.x(), c.y(), fill, fill);
+        a.x(),
+        a.y(),
+        b.x(),
+        b.y(),
+        c.x(),
+        c.y(),
+        fill,
+        fill);
   }
   svg += "</svg>\n";
 

@@ -382,7 +382,8 @@ TEST(Solve, ExportsWriteEveryFile) {
   std::filesystem::remove_all(dir);
   Diagnostics d;
   ASSERT_TRUE(export_solution(s.design.assembly, s.result, dir, d)) << d.format();
-  for (const char* f : {"result.json", "scene.glb", "assembly.stl", "assembly.obj"}) {
+  for (const char* f :
+       {"result.json", "scene.glb", "preview.svg", "assembly.stl", "assembly.obj"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   }
   Diagnostics rd;
