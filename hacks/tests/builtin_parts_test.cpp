@@ -289,7 +289,10 @@ TEST(BuiltinParts, EveryRowMatchesTheTable) {
     if (row.name == "ParamHanger") continue;  // see ParamHangerFormulas
     ASSERT_EQ(part->primitives.size(), row.primitives.size());
     for (std::size_t i = 0; i < row.primitives.size(); ++i) {
-      expect_primitive(row.name, part->primitives[i], row.primitives[i]);
+      // By name: the order may differ where it decides end_with's default (Toothbrush).
+      const int at = part->find_primitive(row.primitives[i].name);
+      ASSERT_GE(at, 0) << row.name << " has no " << row.primitives[i].name;
+      expect_primitive(row.name, part->primitives[static_cast<std::size_t>(at)], row.primitives[i]);
     }
   }
 }
