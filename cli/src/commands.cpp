@@ -1,10 +1,14 @@
 #include "commands.h"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 
 #include "embedded_examples.h"
 #include "fabkit/hacks/design_file.h"
@@ -222,6 +226,43 @@ int run_demo(const DemoSettings& settings) {
   SolveSettings solve;
   solve.output_dir = settings.output_dir;
   return solve_design(std::move(design), solve);
+}
+
+int run_python(const std::string& mode,
+               const std::string& script,
+               const std::vector<std::string>& args) {
+#if defined(FABKIT_PYTHON_PATH) && defined(FABKIT_PYTHON_EXECUTABLE)
+  if (!std::filesystem::exists(script)) {
+    std::fprintf(stderr, "error: cannot open '%s'\n", script.c_str());
+    return kExitBadInput;
+  }
+  const std::string module_dir = FABKIT_PYTHON_PATH;
+  if (!std::filesystem::exists(std::filesystem::path(module_dir) / "fabkit")) {
+    std::fprintf(
+        stderr,
+        "error: the fabkit Python module is not built (expected in %s); run ./scripts/setup\n",
+        module_dir.c_str());
+    return kExitUsage;
+  }
+  const char* old = std::getenv("PYTHONPATH");
+  const std::string path = old && *old ? module_dir + ":" + old : module_dir;
+  setenv("PYTHONPATH", path.c_str(), 1);
+  std::vector<std::string> argv_strings = {FABKIT_PYTHON_EXECUTABLE, "-m", "fabkit", mode, script};
+  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : argv_strings) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  execv(FABKIT_PYTHON_EXECUTABLE, argv.data());
+  std::fprintf(
+      stderr, "error: cannot start %s: %s\n", FABKIT_PYTHON_EXECUTABLE, std::strerror(errno));
+  return kExitUsage;
+#else
+  (void)mode;
+  (void)script;
+  (void)args;
+  std::fprintf(stderr, "error: this fabkit was built without Python (FABKIT_BUILD_PYTHON=OFF)\n");
+  return kExitUsage;
+#endif
 }
 
 int run_parts(const PartsSettings& settings) {

@@ -39,6 +39,12 @@ struct DemoSettings {
 };
 int run_demo(const DemoSettings& settings);
 
+/// `fabkit run PROGRAM.py [args]` and `fabkit sweep FAMILY.py`: run Python with the fabkit
+/// module importable. Replaces this process; returns only on failure.
+int run_python(const std::string& mode,
+               const std::string& script,
+               const std::vector<std::string>& args);
+
 struct PartsSettings {
   std::string name;  ///< one part in detail, or all when empty
 };

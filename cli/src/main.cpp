@@ -35,6 +35,18 @@ int main(int argc, char** argv) {
       "demo", "Solve the bundled bird feeder hack (paper Fig. 1, left) and write its outputs");
   demo_cmd->add_option("-o,--output", demo.output_dir, "output directory")->capture_default_str();
 
+  std::string script;
+  std::vector<std::string> script_args;
+  CLI::App* run_cmd = app.add_subcommand(
+      "run", "Run a FabHaL program written in Python (from fabkit.hacks import *)");
+  run_cmd->add_option("program", script, "Python file")->required();
+  run_cmd->add_option("args", script_args, "arguments passed to the program");
+  run_cmd->prefix_command();
+  std::string family;
+  CLI::App* sweep_cmd = app.add_subcommand(
+      "sweep", "Solve a family of designs in parallel (a file defining build(**params) and grid)");
+  sweep_cmd->add_option("family", family, "Python file")->required();
+
   PartsSettings parts;
   CLI::App* parts_cmd = app.add_subcommand("parts", "List the parts library, or show one part");
   parts_cmd->add_option("name", parts.name, "part name");
@@ -49,5 +61,10 @@ int main(int argc, char** argv) {
   if (*solve_cmd) return run_solve(solve);
   if (*demo_cmd) return run_demo(demo);
   if (*parts_cmd) return run_parts(parts);
+  if (*run_cmd) {
+    for (const std::string& extra : run_cmd->remaining()) script_args.push_back(extra);
+    return run_python("run", script, script_args);
+  }
+  if (*sweep_cmd) return run_python("sweep", family, {});
   return kExitUsage;
 }

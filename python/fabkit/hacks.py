@@ -1,0 +1,115 @@
+"""FabHaL, the FabHacks language, on fabkit's C++ engine.
+
+The paper's programs run as written::
+
+    from fabkit.hacks import *
+
+    assembly = Assembly()
+    ENV_start = Environment({"part": TowelRackRods()})
+    assembly.add(ENV_start, Frame([0, 0, 200], [0, 0, -90]))
+    eyehook1 = HookEyeConnector()
+    assembly.connect(eyehook1.hole, ENV_start.rod1, alignment="flip")
+    ...
+    result = assembly.solve()
+
+Every ``connect`` is verified as it is made; a connection that cannot be made raises
+``fabkit.ConnectError`` with the reason (parts, primitives, numbers).
+"""
+
+from . import _fabkit as _k
+from ._fabkit import ConnectError, Error, Frame
+from ._sweep import sweep
+
+__all__ = [
+    "Assembly", "Frame", "Environment", "Error", "ConnectError", "sweep",
+    "Rod", "Hook", "Ring", "Hole", "Tube", "Clip", "Edge", "Surface", "Hemisphere",
+]
+
+
+class Assembly:
+    """A fixture hack: an environment, parts, and which primitives connect (paper §4.2)."""
+
+    def __init__(self):
+        self._assembly = _k.Assembly()
+
+    def add(self, environment, frame=None):
+        """Fixes an environment (a part, or one of its primitives) at ``frame``."""
+        self._assembly.add(environment, frame)
+
+    def connect(self, a, b, alignment="default", is_fixed=False):
+        """Connects two primitives (in any order). Raises ConnectError if they cannot be
+        connected; returns True if the connection closes a cycle."""
+        if not isinstance(alignment, str):
+            raise TypeError('alignment must be "default" or "flip"')
+        if not isinstance(is_fixed, bool):
+            raise TypeError("is_fixed must be True or False")
+        return self._assembly.connect(a, b, alignment, is_fixed)
+
+    def end_with(self, target, frame=None):
+        """The target: a part (its first primitive) or a primitive should end at ``frame``."""
+        self._assembly.end_with(target, frame)
+
+    def solve(self):
+        """Reaches the target, relaxes under gravity, and says whether the design holds.
+
+        Returns a result with ``stable``, ``target_error`` (mm, degrees), ``frames`` (part name
+        to Frame), ``slipping``, ``timings_ms``, ``summary()``, ``save_json(path)``,
+        ``save_glb(path)`` and ``save_all(directory)``."""
+        return self._assembly.solve()
+
+    @property
+    def part_count(self):
+        return self._assembly.part_count
+
+
+def Environment(entries):
+    """The paper's Environment({...}): wraps one part, or makes a part of loose primitives
+    whose names are the keys (``Environment({"door": Rod({...})}).door``)."""
+    if not isinstance(entries, dict) or not entries:
+        raise TypeError('Environment() takes a dict such as {"part": TowelRackRods()}')
+    values = list(entries.values())
+    if len(values) == 1 and isinstance(values[0], _k.Part):
+        return values[0]
+    if all(isinstance(v, _k.Primitive) for v in values):
+        for k in entries:
+            if not isinstance(k, str):
+                raise TypeError("Environment() keys name the primitives: use strings")
+        return _k.environment_from_primitives(list(entries.items()))
+    raise TypeError("Environment() takes either one part or primitives (Rod({...}), Surface({...}), ...)")
+
+
+def _primitive_constructor(kind):
+    def make(params=None):
+        return _k.make_primitive(kind, params)
+
+    make.__name__ = kind.capitalize()
+    make.__doc__ = f"A {kind} primitive; sizes in mm, e.g. {kind.capitalize()}({{...}})."
+    return make
+
+
+Rod = _primitive_constructor("rod")
+Hook = _primitive_constructor("hook")
+Ring = _primitive_constructor("ring")
+Hole = Ring
+Tube = _primitive_constructor("tube")
+Clip = _primitive_constructor("clip")
+Edge = _primitive_constructor("edge")
+Surface = _primitive_constructor("surface")
+Hemisphere = _primitive_constructor("hemisphere")
+
+
+def _part_constructor(name):
+    def make(params=None):
+        return _k.make_part(name, params)
+
+    make.__name__ = name
+    make.__doc__ = f"A {name} from the parts library (fabkit parts {name})."
+    return make
+
+
+# Every part of the library under its paper/reference name (and aliases such as
+# HookEyeLeft5 and TowelRackRods), as constructors: DoubleHook(), ParamTurnbuckle({...}).
+for _name in _k.part_names():
+    globals()[_name] = _part_constructor(_name)
+    __all__.append(_name)
+del _name

@@ -1,0 +1,120 @@
+"""The Python API: results in Python terms, and clear exceptions for every misuse."""
+
+import json
+
+import pytest
+
+import fabkit
+from fabkit.hacks import *
+
+
+def basket_assembly():
+    assembly = Assembly()
+    rods = Environment({"part": TowelRackRods()})
+    assembly.add(rods, Frame([0, 0, 200], [0, 0, -90]))
+    e1, e2 = HookEyeConnector(), HookEyeConnector()
+    assembly.connect(e1.hole, rods.rod1, alignment="flip")
+    assembly.connect(e2.hole, rods.rod2)
+    basket = Environment({"part": RoundHandleBasket()})
+    assembly.connect(e1.hook, basket.hook)
+    closes = assembly.connect(e2.hook, basket.hook)
+    assembly.end_with(basket, Frame([0, 0, 100], [-75, 0, 90]))
+    return assembly, closes
+
+
+def test_result_mirrors_result_json(tmp_path):
+    assembly, closes = basket_assembly()
+    assert closes is True
+    r = assembly.solve()
+    assert r.stable is True
+    pos, rot = r.target_error
+    assert isinstance(pos, float) and pos < 30
+    assert set(r.frames) == {"ClosetRods", "HookEyeConnector#1", "HookEyeConnector#2", "RoundHandleBasket"}
+    f = r.frames["RoundHandleBasket"]
+    assert len(f.pos) == 3 and len(f.rot) == 3
+    assert r.slipping == []
+    assert set(r.timings_ms) >= {"step1", "step2"}
+    assert "STABLE" in r.summary()
+    r.save_json(tmp_path / "result.json")
+    data = json.loads((tmp_path / "result.json").read_text())
+    assert data["stable"] is True and data["target"]["pos_error_mm"] == pytest.approx(pos, abs=1e-5)
+    r.save_glb(tmp_path / "scene.glb")
+    assert (tmp_path / "scene.glb").read_bytes()[:4] == b"glTF"
+
+
+def test_rejected_connect_raises_connect_error_with_the_reason():
+    assembly = Assembly()
+    rod = Environment({"rod": Rod({"length": 2920, "radius": 12.7})})
+    assembly.add(rod, Frame())
+    with pytest.raises(fabkit.ConnectError) as e:
+        assembly.connect(DoubleHook().hook1, rod.rod)
+    assert "hook opening 11.6 mm is smaller than rod radius 12.7 mm" in str(e.value)
+    assert issubclass(fabkit.ConnectError, fabkit.Error)
+    assert assembly.part_count == 1  # unchanged
+
+
+def test_cycle_that_cannot_close_names_the_cycle():
+    assembly = Assembly()
+    left = Environment({"rod": Rod({"length": 170, "radius": 6.35})})
+    right = Environment({"rod": Rod({"length": 170, "radius": 6.35})})
+    assembly.add(left, Frame([0, -600, 200], [90, 0, 90]))
+    assembly.add(right, Frame([0, 600, 200], [90, 0, 90]))
+    e1, e2, basket = HookEyeConnector(), HookEyeConnector(), RoundHandleBasket()
+    assembly.connect(e1.hole, left.rod)
+    assembly.connect(e2.hole, right.rod)
+    assembly.connect(basket.hook, e1.hook)
+    with pytest.raises(fabkit.ConnectError, match=r"cannot close cycle .* exceeds the .* mm the other parts can span"):
+        assembly.connect(e2.hook, basket.hook)
+
+
+def test_misuse_raises_type_and_value_errors():
+    assembly = Assembly()
+    env = Environment({"rod": Rod({"length": 500, "radius": 5})})
+    assembly.add(env, Frame([0, 0, 500], [90, 0, 90]))
+    hook = DoubleHook()
+    with pytest.raises(TypeError, match="DoubleHook is a part: name one of its primitives"):
+        assembly.connect(hook, env.rod)
+    with pytest.raises(TypeError):
+        assembly.connect("hook1", env.rod)
+    with pytest.raises(ValueError, match='alignment must be "default" or "flip"'):
+        assembly.connect(hook.hook1, env.rod, alignment="sideways")
+    with pytest.raises(AttributeError, match=r"DoubleHook has no primitive 'hook3' \(it has hook1, hook2\)"):
+        hook.hook3
+    with pytest.raises(ValueError, match="extended_length"):
+        ParamTurnbuckle({"extended_length": -5})
+    with pytest.raises(ValueError, match="unknown parameter 'colour'"):
+        Rod({"colour": 3})
+    with pytest.raises(TypeError):
+        Rod({"radius": "thick"})
+    with pytest.raises(ValueError, match="radius .* must be positive"):
+        Rod({"radius": -1, "length": 10})
+    with pytest.raises(TypeError, match="three numbers"):
+        Frame([0, 0], [0, 0, 0])
+    with pytest.raises(ValueError, match="non-finite"):
+        Frame([0, float("nan"), 0])
+    with pytest.raises(TypeError):
+        Environment([1, 2])
+    with pytest.raises(TypeError, match="Frame"):
+        assembly.add(env, "here")
+
+
+def test_library_names_and_parametric_parts():
+    assert HookEyeLeft5().primitives == ["hook", "ring"]  # the paper's name for HookEyeLeftS
+    assert TowelRackRods().type_name == "ClosetRods"
+    assert ParamTurnbuckle({"extended_length": 25.1}).primitives == ["hook1", "hook2"]
+    assert BinderClip().hole1.name == "ring1"  # the paper's holes are rings
+    assert Toothbrush().rod.type == "rod"
+
+
+def test_falls_apart_reports_the_slipping_connection():
+    assembly = Assembly()
+    bar = Environment({"rod": Rod({"length": 200, "radius": 5})})
+    assembly.add(bar, Frame([0, 0, 500], [70, 0, 90]))
+    s = DoubleHookMedium()
+    mug = Environment({"mug": Mug()})
+    assembly.connect(s.hook1, bar.rod)
+    assembly.connect(mug.hook, s.hook2)
+    assembly.end_with(mug.hook, Frame([0, 0, 400], [0, 0, 0]))
+    r = assembly.solve()
+    assert r.stable is False
+    assert r.slipping and "slides off the open end of Environment.rod" in r.slipping[0]

@@ -1,0 +1,50 @@
+"""Design families (paper Fig. 11) solved in parallel."""
+
+import runpy
+
+import pytest
+
+from conftest import SOURCE_DIR
+from fabkit.hacks import *
+
+FAMILY = SOURCE_DIR / "examples" / "python" / "clip_light_family.py"
+
+
+def test_clip_light_family_reproduces_figure_11():
+    family = runpy.run_path(str(FAMILY), run_name="family")
+    ranked = sweep(family["build"], family["grid"], threads=2, progress=False)
+    assert len(ranked) == 320 and not ranked.rejected
+    chosen = {ring: ranked.best(ring=ring) for ring in ("XS", "S", "M", "L")}
+    assert all(v is not None and v.stable for v in chosen.values())
+    # The paper's choices (Fig. 11): XS n = 4, l = 25.135; S n = 4, l = 4.57; M n = 3, l = 43.415;
+    # L n = 3, l = 27.42.
+    assert (chosen["XS"].params["n"], chosen["XS"].params["l"]) == (4, 25.135)
+    assert (chosen["S"].params["n"], chosen["S"].params["l"]) == (4, 4.57)
+    assert (chosen["M"].params["n"], chosen["M"].params["l"]) == (3, 43.415)
+    assert chosen["L"].params["n"] == 3 and abs(chosen["L"].params["l"] - 27.42) <= 2.285 + 1e-9
+    # Ranked: stable first, then by target error.
+    errors = [sum(v.target_error) for v in ranked if v.stable]
+    assert errors == sorted(errors)
+
+
+def test_sweep_reports_rejected_variants_and_checks_its_arguments():
+    def build(radius):
+        a = Assembly()
+        rod = Environment({"rod": Rod({"length": 500, "radius": radius})})
+        a.add(rod, Frame([0, 0, 500], [90, 0, 90]))
+        a.connect(DoubleHook().hook1, rod.rod)  # rejected when the rod is too thick
+        return a
+
+    ranked = sweep(build, {"radius": [5, 20]}, threads=1, progress=False)
+    assert [v.params for v in ranked] == [{"radius": 5}]
+    assert ranked.rejected and "hook opening" in ranked.rejected[0][1]
+    with pytest.raises(TypeError):
+        sweep(build, [1, 2])
+    with pytest.raises(TypeError):
+        sweep(42, {"radius": [5]})
+
+
+def test_fabkit_sweep_cli(fabkit_cli):
+    out = fabkit_cli("sweep", FAMILY).stdout
+    assert "320 variants solved, 320 stable" in out
+    assert "ring=XS: {'ring': 'XS', 'n': 4, 'l': 25.135}" in out
