@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 #include "embedded_examples.h"
 #include "fabkit/hacks/design_file.h"
@@ -88,19 +89,26 @@ int check_design(Design design, bool quiet) {
 
 }  // namespace
 
-int run_check(const CheckSettings& settings) {
+// The built-in library plus the user's part files; nullopt (diagnostics printed) on error.
+static std::optional<hacks::PartsLibrary> library_with(const std::vector<std::string>& part_files) {
   hacks::PartsLibrary library = hacks::PartsLibrary::builtin();
-  for (const std::string& file : settings.part_files) {
+  for (const std::string& file : part_files) {
     Diagnostics d;
     if (!library.load_yaml(file, d)) {
       for (const Diagnostic& x : d) print_diagnostic(x);
-      return kExitBadInput;
+      return std::nullopt;
     }
   }
+  return library;
+}
+
+int run_check(const CheckSettings& settings) {
+  const std::optional<hacks::PartsLibrary> library = library_with(settings.part_files);
+  if (!library) return kExitBadInput;
   hacks::DesignOptions options;
   options.verify.restarts = settings.restarts;
   options.verify.seed = settings.seed;
-  return check_design(hacks::load_design(settings.design, library, options), settings.quiet);
+  return check_design(hacks::load_design(settings.design, *library, options), settings.quiet);
 }
 
 namespace {
@@ -206,15 +214,9 @@ int solve_design(Design design, const SolveSettings& settings) {
 }  // namespace
 
 int run_solve(const SolveSettings& settings) {
-  hacks::PartsLibrary library = hacks::PartsLibrary::builtin();
-  for (const std::string& file : settings.part_files) {
-    Diagnostics d;
-    if (!library.load_yaml(file, d)) {
-      for (const Diagnostic& x : d) print_diagnostic(x);
-      return kExitBadInput;
-    }
-  }
-  return solve_design(hacks::load_design(settings.design, library), settings);
+  const std::optional<hacks::PartsLibrary> library = library_with(settings.part_files);
+  if (!library) return kExitBadInput;
+  return solve_design(hacks::load_design(settings.design, *library), settings);
 }
 
 int run_demo(const DemoSettings& settings) {

@@ -5,7 +5,9 @@
 #include <tiny_gltf.h>
 
 #include <cstring>
-#include <system_error>
+#include <sstream>
+
+#include "fabkit/core/file_io.h"
 
 namespace fabkit {
 namespace {
@@ -162,22 +164,14 @@ bool write_glb(const std::vector<SceneObject>& objects,
   model.scenes.push_back(scene);
   model.defaultScene = 0;
 
-  const std::filesystem::path tmp = path.string() + ".tmp";
   tinygltf::TinyGLTF writer;
-  const bool ok = writer.WriteGltfSceneToFile(&model,
-                                              tmp.string(),
-                                              /*embedImages=*/true,
-                                              /*embedBuffers=*/true,
-                                              /*prettyPrint=*/false,
-                                              /*writeBinary=*/true);
-  std::error_code ec;
-  if (ok) std::filesystem::rename(tmp, path, ec);
-  if (!ok || ec) {
-    std::filesystem::remove(tmp, ec);
-    diags.error(DiagnosticCode::kUnreadableFile, fmt::format("cannot write '{}'", path.string()));
+  std::ostringstream bytes;
+  if (!writer.WriteGltfSceneToStream(&model, bytes, /*prettyPrint=*/false, /*writeBinary=*/true)) {
+    diags.error(DiagnosticCode::kInvalidValue,
+                fmt::format("cannot encode the scene for '{}'", path.string()));
     return false;
   }
-  return true;
+  return write_file_atomically(path, bytes.str(), diags);
 }
 
 }  // namespace fabkit

@@ -18,6 +18,8 @@
 #include <system_error>
 #include <vector>
 
+#include "fabkit/core/file_io.h"
+
 namespace fabkit {
 namespace {
 
@@ -590,43 +592,6 @@ bool check_writable(const TriangleMesh& mesh, const std::string& name, Diagnosti
   return true;
 }
 
-/// Writes `bytes` to "<path>.tmp" and renames it over `path`; removes the temporary on failure.
-bool write_atomically(const fs::path& path, std::string_view bytes, Diagnostics& diags) {
-  const std::string name = path.string();
-  fs::path tmp = path;
-  tmp += ".tmp";
-  auto fail = [&](std::string_view what, int err) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    diags.error(DiagnosticCode::kUnreadableFile,
-                fmt::format("cannot write '{}': {}{}{}",
-                            name,
-                            what,
-                            err != 0 ? ": " : "",
-                            err != 0 ? std::strerror(err) : ""),
-                SourceLocation{name, 0, 0});
-    return false;
-  };
-
-  errno = 0;
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (f == nullptr) return fail(fmt::format("cannot create '{}'", tmp.string()), errno);
-  errno = 0;
-  const std::size_t written = bytes.empty() ? 0 : std::fwrite(bytes.data(), 1, bytes.size(), f);
-  int err = errno;
-  const bool write_ok = written == bytes.size() && std::fflush(f) == 0;
-  if (!write_ok && err == 0) err = errno;
-  errno = 0;
-  const bool close_ok = std::fclose(f) == 0;
-  if (!write_ok) return fail("write error", err);
-  if (!close_ok) return fail("write error", errno);
-
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) return fail(fmt::format("cannot rename '{}': {}", tmp.string(), ec.message()), 0);
-  return true;
-}
-
 /// Coordinates are written with 9 significant digits (enough to round-trip a float, sub-micron
 /// on metre-sized parts); -0 is written as 0 so that output does not depend on the sign of zero.
 double canonical(double x) {
@@ -670,7 +635,7 @@ bool write_obj(const TriangleMesh& mesh, const std::filesystem::path& path, Diag
   for (const auto& f : mesh.faces) {
     fmt::format_to(std::back_inserter(out), "f {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1);
   }
-  return write_atomically(path, std::string_view(out.data(), out.size()), diags);
+  return write_file_atomically(path, std::string_view(out.data(), out.size()), diags);
 }
 
 bool write_stl(const TriangleMesh& mesh, const std::filesystem::path& path, Diagnostics& diags) {
@@ -702,7 +667,7 @@ bool write_stl(const TriangleMesh& mesh, const std::filesystem::path& path, Diag
     out.push_back('\0');  // attribute byte count (uint16) = 0
     out.push_back('\0');
   }
-  return write_atomically(path, out, diags);
+  return write_file_atomically(path, out, diags);
 }
 
 }  // namespace fabkit

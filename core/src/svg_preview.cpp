@@ -6,6 +6,8 @@
 #include <fstream>
 #include <system_error>
 
+#include "fabkit/core/file_io.h"
+
 namespace fabkit {
 
 bool write_svg_preview(const std::vector<SceneObject>& objects,
@@ -89,25 +91,7 @@ bool write_svg_preview(const std::vector<SceneObject>& objects,
   }
   svg += "</svg>\n";
 
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << svg;
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      diags.error(DiagnosticCode::kUnreadableFile, fmt::format("cannot write '{}'", path.string()));
-      return false;
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    diags.error(DiagnosticCode::kUnreadableFile, fmt::format("cannot write '{}'", path.string()));
-    return false;
-  }
-  return true;
+  return write_file_atomically(path, svg, diags);
 }
 
 }  // namespace fabkit

@@ -12,25 +12,10 @@
 #include <set>
 
 #include "constraints.h"
+#include "random.h"
 
 namespace fabkit::hacks::detail {
 namespace {
-
-// splitmix64: tiny, seedable, identical on every platform (std distributions are not).
-class Rng {
- public:
-  explicit Rng(std::uint64_t seed) : state_(seed) {}
-  double uniform() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return static_cast<double>(z >> 11) * 0x1.0p-53;
-  }
-
- private:
-  std::uint64_t state_;
-};
 
 struct Layout {
   std::vector<ConnectionId> closures;
@@ -288,7 +273,7 @@ ClosureResult close_cycles(const Assembly& assembly,
     problem.SetParameterUpperBound(z.data(), static_cast<int>(k), s.hi);
   }
 
-  Rng rng(options.seed);
+  detail::SplitMix rng(options.seed);
   double best = std::numeric_limits<double>::infinity();
   auto keep_if_best = [&] {
     const double c = cost_at(*functor, z);

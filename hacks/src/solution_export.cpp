@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <system_error>
 
+#include "fabkit/core/file_io.h"
 #include "fabkit/core/mesh_io.h"
 #include "fabkit/core/svg_preview.h"
 
@@ -26,28 +27,6 @@ ordered_json vec(const Vec3& v) {
 
 ordered_json pose_error_json(const PoseError& e) {
   return {{"pos_error_mm", tidy(e.position_mm)}, {"rot_error_deg", tidy(e.rotation_deg)}};
-}
-
-bool write_text(const std::filesystem::path& path, const std::string& text, Diagnostics& diags) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      diags.error(DiagnosticCode::kUnreadableFile, fmt::format("cannot write '{}'", path.string()));
-      return false;
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    diags.error(DiagnosticCode::kUnreadableFile, fmt::format("cannot write '{}'", path.string()));
-    return false;
-  }
-  return true;
 }
 
 }  // namespace
@@ -163,7 +142,7 @@ bool export_solution(const Assembly& assembly,
         fmt::format("cannot create output directory '{}': {}", directory.string(), ec.message()));
     return false;
   }
-  bool ok = write_text(
+  bool ok = write_file_atomically(
       directory / "result.json", result_json(assembly, result, options.design_name), diags);
   const std::vector<SceneObject> scene = solution_scene(assembly, result);
   ok = write_glb(scene, directory / "scene.glb", diags) && ok;

@@ -18,6 +18,7 @@
 
 #include "constraints.h"
 #include "cycle_closure.h"
+#include "random.h"
 #include "solve_internal.h"
 
 namespace fabkit::hacks {
@@ -235,21 +236,6 @@ void from_z(const Variables& v, const std::vector<double>& z, std::vector<double
     x[static_cast<std::size_t>(v.index[k])] = z[k] * v.scale[k];
   }
 }
-
-class SplitMix {
- public:
-  explicit SplitMix(std::uint64_t seed) : state_(seed) {}
-  double uniform() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return static_cast<double>(z >> 11) * 0x1.0p-53;
-  }
-
- private:
-  std::uint64_t state_;
-};
 
 double max_gap(const Assembly& a, const std::vector<double>& x, double* deg = nullptr) {
   double mm = 0;
@@ -1086,7 +1072,7 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     return e.position_mm * e.position_mm + e.rotation_deg * e.rotation_deg;
   };
   double best_score = score(best.error);
-  SplitMix rng(o.seed);
+  detail::SplitMix rng(o.seed);
   for (int start = 0; start < std::max(1, o.target_starts); ++start) {
     const auto t_start = Clock::now();
     // Nothing can beat a target that is already reached.

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <thread>
 
+#include "fabkit/core/file_io.h"
 #include "fabkit/hacks/assembly.h"
 #include "fabkit/hacks/parts_library.h"
 #include "fabkit/hacks/solution_export.h"
@@ -411,17 +412,9 @@ PYBIND11_MODULE(_fabkit, m) {
       .def(
           "save_json",
           [](const Solved& s, const std::filesystem::path& path, const std::string& name) {
-            const std::string text = result_json(*s.assembly, s.result, name);
-            const std::filesystem::path tmp = path.string() + ".tmp";
-            FILE* f = std::fopen(tmp.c_str(), "wb");
-            const bool ok = f && std::fwrite(text.data(), 1, text.size(), f) == text.size();
-            if (f) std::fclose(f);
-            std::error_code ec;
-            if (ok) std::filesystem::rename(tmp, path, ec);
-            if (!ok || ec) {
-              std::filesystem::remove(tmp, ec);
-              raise(g_error, fmt::format("cannot write '{}'", path.string()));
-            }
+            export_or_raise(s, [&](Diagnostics& d) {
+              return write_file_atomically(path, result_json(*s.assembly, s.result, name), d);
+            });
           },
           py::arg("path"),
           py::arg("design_name") = "")
