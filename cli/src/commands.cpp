@@ -9,13 +9,16 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <optional>
+#include <sstream>
 
 #include "embedded_examples.h"
 #include "fabkit/hacks/design_file.h"
 #include "fabkit/hacks/parts_library.h"
 #include "fabkit/hacks/solution_export.h"
 #include "fabkit/hacks/solve.h"
+#include "fabkit/server/editor_server.h"
 
 namespace fabkit::cli {
 namespace {
@@ -265,6 +268,43 @@ int run_python(const std::string& mode,
   std::fprintf(stderr, "error: this fabkit was built without Python (FABKIT_BUILD_PYTHON=OFF)\n");
   return kExitUsage;
 #endif
+}
+
+int run_serve(const ServeSettings& settings) {
+  server::ServerOptions o;
+  o.host = settings.host;
+  o.port = settings.port;
+  if (std::filesystem::is_directory(FABKIT_WEB_DIR)) o.web_root = FABKIT_WEB_DIR;
+  if (!settings.design.empty()) {
+    std::ifstream in(settings.design, std::ios::binary);
+    if (!in) {
+      std::fprintf(stderr, "error: cannot open design file '%s'\n", settings.design.c_str());
+      return kExitBadInput;
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    o.initial_design = text.str();
+    o.initial_design_name = settings.design;
+  }
+  server::EditorServer server(o);
+  if (!server.bind()) {
+    std::fprintf(stderr, "error: %s\n", server.error().c_str());
+    return kExitUsage;
+  }
+  std::printf("fabkit serve: http://%s:%d/  (API under /api; Ctrl-C to stop)\n",
+              settings.host.c_str(),
+              server.port());
+  if (o.web_root.empty()) {
+    std::printf("note: the web editor is not built (%s is missing); only the API is served\n",
+                FABKIT_WEB_DIR);
+  }
+  if (settings.host != "127.0.0.1" && settings.host != "localhost") {
+    std::printf("warning: listening on %s: other machines can reach this server\n",
+                settings.host.c_str());
+  }
+  std::fflush(stdout);
+  server.listen();
+  return kExitOk;
 }
 
 int run_parts(const PartsSettings& settings) {

@@ -45,6 +45,13 @@ int run_python(const std::string& mode,
                const std::string& script,
                const std::vector<std::string>& args);
 
+struct ServeSettings {
+  std::string host = "127.0.0.1";  ///< loopback unless given explicitly
+  int port = 8080;
+  std::string design;  ///< optional design to open
+};
+int run_serve(const ServeSettings& settings);
+
 struct PartsSettings {
   std::string name;  ///< one part in detail, or all when empty
 };

@@ -47,6 +47,19 @@ int main(int argc, char** argv) {
       "sweep", "Solve a family of designs in parallel (a file defining build(**params) and grid)");
   sweep_cmd->add_option("family", family, "Python file")->required();
 
+  ServeSettings serve;
+  CLI::App* serve_cmd =
+      app.add_subcommand("serve", "Start the local server of the web editor (JSON API under /api)");
+  serve_cmd->add_option("design", serve.design, "design to open (YAML)");
+  serve_cmd->add_option("--port", serve.port, "port (0: any free one)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 65535));
+  serve_cmd
+      ->add_option("--host",
+                   serve.host,
+                   "address to listen on; other than loopback, other machines can connect")
+      ->capture_default_str();
+
   PartsSettings parts;
   CLI::App* parts_cmd = app.add_subcommand("parts", "List the parts library, or show one part");
   parts_cmd->add_option("name", parts.name, "part name");
@@ -66,5 +79,6 @@ int main(int argc, char** argv) {
     return run_python("run", script, script_args);
   }
   if (*sweep_cmd) return run_python("sweep", family, {});
+  if (*serve_cmd) return run_serve(serve);
   return kExitUsage;
 }

@@ -55,3 +55,7 @@ expect_run(4 "falls apart: shook.hook1 slides off the open end of bar.rod (t = 0
 expect_run(3 "hook opening 11.6 mm is smaller than rod radius 12.7 mm" solve ${tmp}/infeasible.yaml)
 expect_run(2 "YAML syntax error" solve ${tmp}/syntax.yaml)
 expect_run(0 "wrote ${tmp}/demo/result.json" demo -o ${tmp}/demo)
+
+# serve: bad options are usage errors; a design that cannot be read is refused up front.
+expect_run(1 "" serve --port 70000)
+expect_run(2 "cannot open design file" serve ${tmp}/does-not-exist.yaml --port 0)

@@ -51,10 +51,9 @@ std::vector<float> vertex_normals(const TriangleMesh& mesh) {
 
 }  // namespace
 
-bool write_glb(const std::vector<SceneObject>& objects,
-               const std::filesystem::path& path,
-               Diagnostics& diags,
-               const GlbOptions& options) {
+std::optional<std::string> encode_glb(const std::vector<SceneObject>& objects,
+                                      Diagnostics& diags,
+                                      const GlbOptions& options) {
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "fabkit";
@@ -76,10 +75,9 @@ bool write_glb(const std::vector<SceneObject>& objects,
     if (obj.mesh.empty()) continue;
     for (const Vec3& v : obj.mesh.vertices) {
       if (!v.allFinite()) {
-        diags.error(
-            DiagnosticCode::kInvalidValue,
-            fmt::format("{}: object '{}' has a non-finite vertex", path.string(), obj.name));
-        return false;
+        diags.error(DiagnosticCode::kInvalidValue,
+                    fmt::format("scene object '{}' has a non-finite vertex", obj.name));
+        return std::nullopt;
       }
     }
     std::vector<float> positions;
@@ -167,11 +165,24 @@ bool write_glb(const std::vector<SceneObject>& objects,
   tinygltf::TinyGLTF writer;
   std::ostringstream bytes;
   if (!writer.WriteGltfSceneToStream(&model, bytes, /*prettyPrint=*/false, /*writeBinary=*/true)) {
-    diags.error(DiagnosticCode::kInvalidValue,
-                fmt::format("cannot encode the scene for '{}'", path.string()));
-    return false;
+    diags.error(DiagnosticCode::kInvalidValue, "cannot encode the scene as glTF");
+    return std::nullopt;
   }
-  return write_file_atomically(path, bytes.str(), diags);
+  return bytes.str();
+}
+
+bool write_glb(const std::vector<SceneObject>& objects,
+               const std::filesystem::path& path,
+               Diagnostics& diags,
+               const GlbOptions& options) {
+  Diagnostics encoding;
+  const std::optional<std::string> bytes = encode_glb(objects, encoding, options);
+  for (Diagnostic d : encoding) {
+    d.message = fmt::format("{}: {}", path.string(), d.message);
+    diags.add(d);
+  }
+  if (!bytes) return false;
+  return write_file_atomically(path, *bytes, diags);
 }
 
 }  // namespace fabkit

@@ -324,6 +324,7 @@ ClosureResult close_cycles(const Assembly& assembly,
 
   const int starts = std::max(1, options.restarts);
   for (int start = 0; start < starts; ++start) {
+    if (options.deadline && std::chrono::steady_clock::now() > *options.deadline) break;
     result.starts = start + 1;
     load_start(start);
     if (start == 0 && layout.closures.size() > 1) {

@@ -140,6 +140,20 @@ class Reader {
         for (const auto& p : parts) declare_part(p, *lib, design, /*is_target=*/false);
       }
     }
+    if (options_.max_parts > 0) {
+      std::size_t count = 0;
+      for (const char* key : {"environment", "parts"}) {
+        if (auto n = root[key]; n && n.IsSequence()) count += n.size();
+      }
+      if (root["target"]) ++count;
+      if (count > static_cast<std::size_t>(options_.max_parts)) {
+        error(
+            DiagnosticCode::kInvalidValue,
+            fmt::format("the design has {} parts; the limit here is {}", count, options_.max_parts),
+            SourceLocation{file_, 1, 1});
+        return;
+      }
+    }
     YAML::Node target = root["target"];
     if (target) declare_part(target, *lib, design, /*is_target=*/true);
 

@@ -84,7 +84,8 @@ std::string result_json(const Assembly& assembly,
   for (const StageTiming& t : r.timings)
     timings[t.stage] = std::round(t.milliseconds * 1000) / 1000;
   j["timings_ms"] = timings;
-  return j.dump(2) + "\n";
+  // Names come from the user's file and may not be UTF-8: replace bad bytes, never fail.
+  return j.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
 }
 
 std::vector<SceneObject> solution_scene(const Assembly& assembly, const SolveResult& r) {

@@ -672,8 +672,16 @@ std::string slip_message(const Assembly& a, int index, bool at_upper) {
 // A direction the objective does not change along (a hook on a level rod) gets no step.
 class ManifoldSolver {
  public:
-  ManifoldSolver(const Problem& p, const Variables& v, const std::vector<double>& x, Objective o)
-      : problem_(p), vars_(v), eval_(p, v, x, o), n_(static_cast<int>(v.index.size())) {
+  ManifoldSolver(const Problem& p,
+                 const Variables& v,
+                 const std::vector<double>& x,
+                 Objective o,
+                 std::optional<Clock::time_point> deadline = std::nullopt)
+      : problem_(p),
+        vars_(v),
+        eval_(p, v, x, o),
+        n_(static_cast<int>(v.index.size())),
+        deadline_(deadline) {
     lo_ = Eigen::VectorXd::Constant(n_, -std::numeric_limits<double>::infinity());
     hi_ = Eigen::VectorXd::Constant(n_, std::numeric_limits<double>::infinity());
     for (int k = 0; k < n_; ++k) {
@@ -741,6 +749,7 @@ class ManifoldSolver {
     int it = 0;
     for (; it < max_iterations; ++it) {
       if (it == 15 && cur.f > give_up) break;
+      if (out_of_time()) break;
       const Active act = active_set(cur);
       if (act.Z.cols() == 0) break;
       const Eigen::MatrixXd A = columns(cur.Jr, act.free) * act.Z;
@@ -845,6 +854,8 @@ class ManifoldSolver {
   }
 
  private:
+  bool out_of_time() const { return deadline_ && Clock::now() > *deadline_; }
+
   static constexpr double kGradTol = 1e-9;   // objective slope per mm (or degree) of motion
   static constexpr double kFeasTol = 1e-10;  // closure residual (mm, degrees)
 
@@ -1037,6 +1048,7 @@ class ManifoldSolver {
   int n_;
   Eigen::VectorXd lo_, hi_;
   int evaluations_ = 0;
+  std::optional<Clock::time_point> deadline_;
 };
 
 // ---- step 1: the target -------------------------------------------------------------------
@@ -1084,12 +1096,14 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
         x0[static_cast<std::size_t>(v)] = s.lo + rng.uniform() * (s.hi - s.lo);
       }
     }
-    ManifoldSolver solver(p, vars, x0, Objective::kTarget);
+    if (o.deadline && Clock::now() > *o.deadline) break;
+    ManifoldSolver solver(p, vars, x0, Objective::kTarget, o.deadline);
     if (start > 0 && !solver.close(x0, 100)) {
       // The local closing failed from this start: the verification's global search (two
       // phases, stall detection) usually gets there.
       VerifyOptions v;
       v.restarts = 1;
+      v.deadline = o.deadline;
       const detail::ClosureResult closed = detail::close_cycles(a, x0, v);
       if (!closed.closed) continue;
       x0 = closed.x;
@@ -1133,7 +1147,7 @@ StepResult run_step2(const Problem& p,
     out.x = x1;
     return out;
   }
-  ManifoldSolver solver(p, vars, x1, Objective::kEnergy);
+  ManifoldSolver solver(p, vars, x1, Objective::kEnergy, o.deadline);
   return solver.relax(x1, o.max_iterations);
 }
 
@@ -1184,6 +1198,8 @@ std::string_view to_string(Termination t) {
       return "INFEASIBLE";
     case Termination::kMaxIterations:
       return "MAX_ITERATIONS";
+    case Termination::kTimeout:
+      return "TIMEOUT";
   }
   return "CONVERGED";
 }
@@ -1295,6 +1311,11 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   result.energy = energy;
   if (!converged && result.termination == Termination::kConverged) {
     result.termination = Termination::kMaxIterations;
+  }
+  if (options.deadline && Clock::now() > *options.deadline) {
+    result.termination = Termination::kTimeout;
+    result.diagnostics.error(DiagnosticCode::kInvalidValue,
+                             "the solve stopped at its time limit; the result is incomplete");
   }
   if (result.stable) {
     std::string how = "nothing slides off under gravity";

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,12 @@ struct GlbOptions {
   bool convert_to_gltf_axes_and_metres = true;
   std::string root_name = "fabkit";
 };
+
+/// The .glb bytes of a scene with one node (and mesh, material) per object; nullopt with a
+/// diagnostic if it cannot be encoded (non-finite vertices).
+std::optional<std::string> encode_glb(const std::vector<SceneObject>& objects,
+                                      Diagnostics& diags,
+                                      const GlbOptions& options = {});
 
 /// Writes a .glb with one node (and mesh, material) per object. Writes a temporary file and
 /// renames it; on failure adds a diagnostic and leaves no file.

@@ -6,6 +6,7 @@
 /// cycle and becomes a constraint. Every connect is verified before it is accepted; a
 /// rejected connect leaves the assembly unchanged.
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -55,6 +56,8 @@ struct VerifyOptions {
   double tolerance = 1e-6;   ///< closed when Σ‖f‖² is below this (mm², deg²)
   int max_iterations = 100;  ///< per start
   bool quick_reject = true;  ///< polygon-inequality check before the search
+  /// Give up the search once this time has passed (servers); none: no limit.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 struct ConnectOptions {

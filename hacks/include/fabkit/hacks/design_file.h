@@ -27,6 +27,7 @@ namespace fabkit::hacks {
 
 struct DesignOptions {
   VerifyOptions verify;
+  int max_parts = 0;  ///< refuse designs with more parts than this (0: no limit)
 };
 
 /// One step of the design in file order, with its outcome.

@@ -3,8 +3,10 @@
 /// its end_with frame subject to every constraint; step 2 relaxes the assembly under gravity
 /// to static equilibrium and decides whether it falls apart.
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,8 @@ struct SolveOptions {
   double fall_threshold = 1e-6;
   int max_iterations = 500;  ///< per optimisation run
   bool relax = true;         ///< run step 2
+  /// Stop (termination TIMEOUT) once this time has passed; for servers. None: no limit.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
   /// Called as each stage starts ("step1", "step2", "stability"); for progress displays.
   std::function<void(std::string_view stage)> on_stage;
 };
@@ -34,6 +38,7 @@ enum class Termination {
   kNoTarget,       ///< the assembly has no (connected) target
   kInfeasible,     ///< the constraints could not be satisfied
   kMaxIterations,  ///< an optimisation ran out of iterations (result still usable)
+  kTimeout,        ///< stopped at options.deadline (result incomplete)
 };
 std::string_view to_string(Termination t);
 

@@ -1,0 +1,359 @@
+// The web editor's server: cpp-httplib, JSON by nlohmann. Every handler validates its input
+// and answers with JSON; nothing a client sends is ever used as a file name.
+#include "fabkit/server/editor_server.h"
+
+// The library (Eigen) before httplib: httplib pulls in <resolv.h>, whose `_res` macro breaks
+// Eigen's headers when they come after it.
+#include <fmt/format.h>
+#include <httplib.h>
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+
+#include "fabkit/core/gltf.h"
+#include "fabkit/hacks/design_file.h"
+#include "fabkit/hacks/parts_library.h"
+#include "fabkit/hacks/solution_export.h"
+#include "fabkit/hacks/solve.h"
+
+namespace fabkit::server {
+namespace {
+
+using nlohmann::json;
+using namespace fabkit::hacks;
+
+json vec(const Vec3& v) {
+  return json::array({v.x(), v.y(), v.z()});
+}
+
+json frame_json(const Frame& f) {
+  const Frame n = f.normalized();
+  return {{"pos", vec(n.pos)}, {"rot", vec(n.rot)}};
+}
+
+json diagnostic_json(const Diagnostic& d) {
+  json j = {{"severity", std::string(to_string(d.severity))},
+            {"code", std::string(to_string(d.code))},
+            {"message", d.message}};
+  if (d.where.line > 0) j["line"] = d.where.line;
+  if (d.where.column > 0) j["column"] = d.where.column;
+  j["text"] = d.format();
+  return j;
+}
+
+json diagnostics_json(const Diagnostics& ds) {
+  json out = json::array();
+  for (const Diagnostic& d : ds) out.push_back(diagnostic_json(d));
+  return out;
+}
+
+json primitive_json(const Primitive& p) {
+  json shape = json::object();
+  for (std::string_view f : shape_field_names(p.type)) {
+    shape[std::string(f)] = shape_field_value(p.shape, f);
+  }
+  json params = json::array();
+  for (const ParamSpec& s : p.connector_params()) {
+    params.push_back({{"name", s.name},
+                      {"min", s.lo},
+                      {"max", s.hi},
+                      {"init", s.init},
+                      {"tag", std::string(to_string(s.tag))}});
+  }
+  json partners = json::array();
+  for (PrimitiveType t : allowed_partners(p.type)) partners.push_back(std::string(to_string(t)));
+  return {{"name", p.name},
+          {"type", std::string(to_string(p.type))},
+          {"connector", std::string(to_string(p.connector_kind()))},
+          {"description", p.describe()},
+          {"shape", shape},
+          {"frame", frame_json(p.frame)},
+          {"closed", p.closed_for_connect()},
+          {"single_connection", p.single_connection()},
+          {"critical_dim", p.critical_dim()},
+          {"connects_to", partners},
+          {"params", params}};
+}
+
+json mesh_json(const TriangleMesh& m) {
+  json v = json::array();
+  for (const Vec3& x : m.vertices) {
+    v.push_back(x.x());
+    v.push_back(x.y());
+    v.push_back(x.z());
+  }
+  json f = json::array();
+  for (const auto& t : m.faces) {
+    f.push_back(t[0]);
+    f.push_back(t[1]);
+    f.push_back(t[2]);
+  }
+  return {{"vertices", v}, {"faces", f}};
+}
+
+void reply(httplib::Response& res, int status, const json& body) {
+  res.status = status;
+  // Input echoed in messages may not be UTF-8: replace bad bytes rather than fail.
+  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
+}
+
+void reply_error(httplib::Response& res,
+                 int status,
+                 const std::string& message,
+                 const json& diagnostics = json::array()) {
+  reply(res, status, {{"error", message}, {"diagnostics", diagnostics}});
+}
+
+}  // namespace
+
+struct EditorServer::Impl {
+  ServerOptions options;
+  httplib::Server http;
+  int port = -1;
+
+  Design load(const std::string& body,
+              const std::string& name,
+              std::chrono::steady_clock::time_point deadline) const {
+    DesignOptions o;
+    o.max_parts = options.max_parts;
+    o.verify.deadline = deadline;
+    return load_design_text(body, name, PartsLibrary::builtin(), o);
+  }
+
+  std::chrono::steady_clock::time_point deadline() const {
+    return std::chrono::steady_clock::now() +
+           std::chrono::milliseconds(static_cast<long long>(options.solve_timeout_s * 1000));
+  }
+
+  // 400 for input errors (the file cannot be understood), with every diagnostic.
+  static bool reject_input(const Design& d, httplib::Response& res) {
+    bool input_error = !d.readable;
+    for (const Diagnostic& x : d.diagnostics) input_error = input_error || is_input_error(x);
+    if (!input_error) return false;
+    std::string first = "the design cannot be read";
+    for (const Diagnostic& x : d.diagnostics) {
+      if (x.severity == Severity::kError) {
+        first = x.format();
+        break;
+      }
+    }
+    reply_error(res, 400, first, diagnostics_json(d.diagnostics));
+    return true;
+  }
+
+  void routes() {
+    http.set_payload_max_length(options.max_body_bytes);
+    // Small JSON answers: no Nagle delay (it added ~40 ms to every round trip).
+    http.set_tcp_nodelay(true);
+
+    http.Get("/api/parts", [](const httplib::Request&, httplib::Response& res) {
+      json parts = json::array();
+      const PartsLibrary& lib = PartsLibrary::builtin();
+      for (const PartGenerator& g : lib.generators()) {
+        Diagnostics d;
+        const auto part = lib.make(g.name, {}, d);
+        if (!part) continue;
+        json prims = json::array();
+        for (const Primitive& p : part->primitives) prims.push_back(primitive_json(p));
+        json params = json::array();
+        for (const ParamSchema& s : g.params) {
+          params.push_back({{"name", s.name},
+                            {"default", s.default_value},
+                            {"min", s.min},
+                            {"max", s.max},
+                            {"unit", s.unit},
+                            {"doc", s.doc}});
+        }
+        parts.push_back({{"name", g.name},
+                         {"aliases", g.aliases},
+                         {"description", g.description},
+                         {"category", std::string(to_string(g.category))},
+                         {"mass", part->mass},
+                         {"params", params},
+                         {"primitives", prims}});
+      }
+      reply(res, 200, parts);
+    });
+
+    http.Get(
+        R"(/api/parts/([A-Za-z0-9_]{1,64})/mesh)",
+        [](const httplib::Request& req, httplib::Response& res) {
+          const std::string name = req.matches[1];
+          ParamValues values;
+          for (const auto& [key, value] : req.params) {
+            char* end = nullptr;
+            const double v = std::strtod(value.c_str(), &end);
+            if (end == value.c_str() || *end != '\0') {
+              reply_error(
+                  res, 400, fmt::format("parameter {} must be a number, not '{}'", key, value));
+              return;
+            }
+            values[key] = v;
+          }
+          Diagnostics d;
+          const auto part = PartsLibrary::builtin().make(name, values, d);
+          if (!part) {
+            const bool unknown = !PartsLibrary::builtin().find(name);
+            reply_error(res, unknown ? 404 : 400, messages_of(d), diagnostics_json(d));
+            return;
+          }
+          json prims = json::object();
+          for (const Primitive& p : part->primitives) prims[p.name] = mesh_json(primitive_mesh(p));
+          reply(
+              res,
+              200,
+              {{"name", part->type_name}, {"body", mesh_json(part->mesh)}, {"primitives", prims}});
+        });
+
+    http.Get("/api/design", [this](const httplib::Request&, httplib::Response& res) {
+      if (options.initial_design.empty()) {
+        reply_error(res, 404, "the server was started without a design");
+        return;
+      }
+      res.set_content(options.initial_design, "application/x-yaml");
+    });
+
+    http.Post("/api/check", [this](const httplib::Request& req, httplib::Response& res) {
+      const Design d = load(req.body, "design.yaml", deadline());
+      if (reject_input(d, res)) return;
+      json steps = json::array();
+      for (const DesignStep& s : d.steps) {
+        json step = {{"text", s.text},
+                     {"line", s.where.line},
+                     {"accepted", s.accepted},
+                     {"skipped", s.skipped},
+                     {"closes_cycle", s.report.closes_cycle},
+                     {"cycles", s.report.cycles},
+                     {"milliseconds", s.report.milliseconds},
+                     {"diagnostics", diagnostics_json(s.report.diagnostics)}};
+        if (!s.accepted && !s.report.best_part_frames.empty()) {
+          // How close a cycle came: the best configuration found, one frame per part.
+          json frames = json::array();
+          for (const Frame& f : s.report.best_part_frames) frames.push_back(frame_json(f));
+          step["best_part_frames"] = frames;
+        }
+        steps.push_back(step);
+      }
+      json parts = json::array();
+      const std::vector<Mat4> frames = d.assembly.part_frames(d.assembly.values());
+      for (int i = 0; i < d.assembly.part_count(); ++i) {
+        parts.push_back(
+            {{"name", d.assembly.label(PartId{i})},
+             {"type", d.assembly.node(PartId{i}).part->type_name},
+             {"frame", frame_json(Frame::from_matrix(frames[static_cast<std::size_t>(i)]))}});
+      }
+      reply(res,
+            200,
+            {{"valid", d.feasible()},
+             {"steps", steps},
+             {"parts", parts},
+             {"diagnostics", diagnostics_json(d.diagnostics)}});
+    });
+
+    http.Post("/api/solve", [this](const httplib::Request& req, httplib::Response& res) {
+      const auto limit = deadline();
+      const Design d = load(req.body, "design.yaml", limit);
+      if (reject_input(d, res)) return;
+      if (!d.feasible()) {
+        reply_error(res, 422, "the design cannot be built", diagnostics_json(d.diagnostics));
+        return;
+      }
+      SolveOptions so;
+      so.deadline = limit;
+      const SolveResult r = solve(d.assembly, so);
+      if (r.termination == Termination::kTimeout) {
+        reply_error(res,
+                    503,
+                    fmt::format("the solve took longer than {:g} s and was stopped",
+                                options.solve_timeout_s));
+        return;
+      }
+      if (req.has_param("format") && req.get_param_value("format") == "glb") {
+        Diagnostics dg;
+        const std::optional<std::string> bytes = encode_glb(solution_scene(d.assembly, r), dg);
+        if (!bytes) {
+          reply_error(res, 500, "cannot encode the scene", diagnostics_json(dg));
+          return;
+        }
+        res.set_content(*bytes, "model/gltf-binary");
+        return;
+      }
+      res.status = 200;
+      res.set_content(result_json(d.assembly, r, d.name), "application/json");
+    });
+
+    // Errors thrown by a handler become a 500 with a message, never a dead server.
+    http.set_exception_handler(
+        [](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+          std::string what = "internal error";
+          try {
+            std::rethrow_exception(ep);
+          } catch (const std::exception& e) {
+            what = e.what();
+          } catch (...) {
+          }
+          reply_error(res, 500, what);
+        });
+    http.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+      if (!res.body.empty()) return;  // a handler already explained itself
+      const std::string msg = res.status == 413
+                                  ? "the request is larger than the server accepts"
+                                  : fmt::format("{} {}: not found", req.method, req.path);
+      reply_error(res, res.status, msg);
+    });
+
+    if (!options.web_root.empty() && std::filesystem::is_directory(options.web_root)) {
+      // httplib refuses paths with ".." (and decodes %2e first), so only files under the
+      // root are ever served.
+      http.set_mount_point("/", options.web_root.string());
+    }
+  }
+
+  static std::string messages_of(const Diagnostics& d) {
+    std::string out;
+    for (const Diagnostic& x : d) {
+      if (x.severity == Severity::kError) out += (out.empty() ? "" : "\n") + x.message;
+    }
+    return out;
+  }
+};
+
+EditorServer::EditorServer(ServerOptions options) : impl_(std::make_unique<Impl>()) {
+  impl_->options = std::move(options);
+  impl_->routes();
+}
+
+EditorServer::~EditorServer() {
+  stop();
+}
+
+bool EditorServer::bind() {
+  if (impl_->options.port == 0) {
+    impl_->port = impl_->http.bind_to_any_port(impl_->options.host);
+  } else if (impl_->http.bind_to_port(impl_->options.host, impl_->options.port)) {
+    impl_->port = impl_->options.port;
+  } else {
+    impl_->port = -1;
+  }
+  if (impl_->port < 0) {
+    error_ = fmt::format("cannot listen on {}:{} (in use, or not an address of this machine)",
+                         impl_->options.host,
+                         impl_->options.port);
+    return false;
+  }
+  return true;
+}
+
+int EditorServer::port() const {
+  return impl_->port;
+}
+
+void EditorServer::listen() {
+  impl_->http.listen_after_bind();
+}
+
+void EditorServer::stop() {
+  if (impl_ && impl_->http.is_running()) impl_->http.stop();
+}
+
+}  // namespace fabkit::server
