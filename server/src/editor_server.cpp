@@ -3,18 +3,20 @@
 #include "fabkit/server/editor_server.h"
 
 // The library (Eigen) before httplib: httplib pulls in <resolv.h>, whose `_res` macro breaks
-// Eigen's headers when they come after it.
-#include <fmt/format.h>
-#include <httplib.h>
-
-#include <chrono>
-#include <nlohmann/json.hpp>
-
+// Eigen's headers when they come after it. Kept out of include sorting for that reason.
+// clang-format off
 #include "fabkit/core/gltf.h"
 #include "fabkit/hacks/design_file.h"
 #include "fabkit/hacks/parts_library.h"
 #include "fabkit/hacks/solution_export.h"
 #include "fabkit/hacks/solve.h"
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+#include <fmt/format.h>
+
+#include <chrono>
+// clang-format on
 
 namespace fabkit::server {
 namespace {
