@@ -207,6 +207,93 @@ struct EditorServer::Impl {
               {{"name", part->type_name}, {"body", mesh_json(part->mesh)}, {"primitives", prims}});
         });
 
+    // Two-way filtering: which of the candidate primitives can connect to the picked one
+    // (paper Table 1, closedness, sizes), each with the reason when not.
+    http.Post("/api/compatible", [](const httplib::Request& req, httplib::Response& res) {
+      json body;
+      try {
+        body = json::parse(req.body);
+      } catch (const json::exception& e) {
+        reply_error(res, 400, fmt::format("the request is not JSON: {}", e.what()));
+        return;
+      }
+      auto primitive_of =
+          [&](const json& j, std::shared_ptr<Part>& part, int& index, std::string& why) {
+            if (!j.is_object() || !j.contains("part") || !j["part"].is_string() ||
+                !j.contains("primitive") || !j["primitive"].is_string()) {
+              why = "each primitive is {\"part\": name, \"primitive\": name, \"params\": {...}}";
+              return false;
+            }
+            ParamValues values;
+            if (j.contains("params") && j["params"].is_object()) {
+              for (const auto& [k, v] : j["params"].items()) {
+                if (!v.is_number()) {
+                  why = fmt::format("parameter {} must be a number", k);
+                  return false;
+                }
+                values[k] = v.get<double>();
+              }
+            }
+            Diagnostics d;
+            part = PartsLibrary::builtin().make(j["part"].get<std::string>(), values, d);
+            if (!part) {
+              why = messages_of(d);
+              return false;
+            }
+            index = part->find_primitive(j["primitive"].get<std::string>());
+            if (index < 0) {
+              why = fmt::format("{} has no primitive '{}' (it has {})",
+                                part->type_name,
+                                j["primitive"].get<std::string>(),
+                                part->primitive_list());
+              return false;
+            }
+            return true;
+          };
+      if (!body.is_object() || !body.contains("a") || !body.contains("b") ||
+          !body["b"].is_array()) {
+        reply_error(res, 400, "expected {\"a\": primitive, \"b\": [primitive, ...]}");
+        return;
+      }
+      if (body["b"].size() > 5000) {
+        reply_error(res, 400, "at most 5000 candidates per request");
+        return;
+      }
+      std::shared_ptr<Part> pa;
+      int ia = -1;
+      std::string why;
+      if (!primitive_of(body["a"], pa, ia, why)) {
+        reply_error(res, 400, why);
+        return;
+      }
+      json out = json::array();
+      for (const json& jb : body["b"]) {
+        std::shared_ptr<Part> pb;
+        int ib = -1;
+        if (!primitive_of(jb, pb, ib, why)) {
+          out.push_back({{"ok", false}, {"reason", why}});
+          continue;
+        }
+        const Primitive& a = pa->primitives[static_cast<std::size_t>(ia)];
+        const Primitive& b = pb->primitives[static_cast<std::size_t>(ib)];
+        const std::string la = fmt::format("{}.{}", pa->type_name, a.name);
+        const std::string lb = fmt::format("{}.{}", pb->type_name, b.name);
+        if (!pair_allowed(a.type, b.type)) {
+          out.push_back({{"ok", false},
+                         {"reason",
+                          fmt::format("a {} cannot connect to a {} (paper Table 1)",
+                                      to_string(a.type),
+                                      to_string(b.type))}});
+          continue;
+        }
+        Diagnostics d;
+        const bool ok =
+            check_compatibility({&a, la, a.critical_dim()}, {&b, lb, b.critical_dim()}, d);
+        out.push_back({{"ok", ok}, {"reason", ok ? "" : messages_of(d)}});
+      }
+      reply(res, 200, out);
+    });
+
     http.Get("/api/design", [this](const httplib::Request&, httplib::Response& res) {
       if (options.initial_design.empty()) {
         reply_error(res, 404, "the server was started without a design");

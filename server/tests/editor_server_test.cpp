@@ -231,6 +231,32 @@ TEST_F(ServerTest, NoPathTraversal) {
   expect_alive();
 }
 
+TEST_F(ServerTest, CompatibilityForTwoWayFiltering) {
+  const json request = {{"a", {{"part", "DoubleHook"}, {"primitive", "hook1"}}},
+                        {"b",
+                         {{{"part", "LongTensionRod"}, {"primitive", "rod"}},
+                          {{"part", "ClosetRods"}, {"primitive", "rod1"}},
+                          {{"part", "SoapBottle"}, {"primitive", "surface"}},
+                          {{"part", "NoSuchPart"}, {"primitive", "x"}}}}};
+  const auto r = client_->Post("/api/compatible", request.dump(), "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200);
+  const json j = json::parse(r->body);
+  ASSERT_EQ(j.size(), 4u);
+  EXPECT_FALSE(j[0]["ok"].get<bool>());
+  EXPECT_NE(j[0]["reason"].get<std::string>().find(
+                "hook opening 11.6 mm is smaller than rod radius 12.7 mm"),
+            std::string::npos);
+  EXPECT_TRUE(j[1]["ok"].get<bool>());
+  EXPECT_FALSE(j[2]["ok"].get<bool>());
+  EXPECT_NE(j[2]["reason"].get<std::string>().find("Table 1"), std::string::npos);
+  EXPECT_FALSE(j[3]["ok"].get<bool>());
+  const auto bad = client_->Post("/api/compatible", "{not json", "application/json");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
+  expect_alive();
+}
+
 TEST_F(ServerTest, UnknownRoutesAnswerJson) {
   const auto r = client_->Get("/api/nothing");
   ASSERT_TRUE(r);

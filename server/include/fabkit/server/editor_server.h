@@ -6,6 +6,8 @@
 ///   GET  /api/design                the design the server was started with (YAML), or 404
 ///   POST /api/check                 body: a design (YAML) → every step's outcome, diagnostics
 ///   POST /api/solve                 body: a design (YAML) → result.json (?format=glb: scene.glb)
+///   POST /api/compatible            body: {"a": primitive, "b": [primitive...]} → can each connect
+///                                   to a (Table 1, closedness, sizes) and why not
 ///
 /// Safe by default: loopback only unless another host is given, request bodies and designs are
 /// capped, every input is validated (HTTP 400 with the diagnostic), solves stop at a deadline,
