@@ -195,14 +195,6 @@ std::vector<MultiConnectionPair> multi_connection_pairs(const Assembly& a) {
   return out;
 }
 
-double closure_cost(const Assembly& assembly, const std::vector<double>& x) {
-  const Layout layout = make_layout(assembly);
-  ClosureCost functor{&assembly, &layout, x};
-  std::vector<double> z;
-  for (int v : layout.variables) z.push_back(x[static_cast<std::size_t>(v)]);
-  return cost_at(functor, z);
-}
-
 std::vector<ClosureGap> closure_gaps(const Assembly& assembly, const std::vector<double>& x) {
   std::vector<ClosureGap> out;
   for (ConnectionId id : assembly.cycle_connections()) {
@@ -292,14 +284,6 @@ ClosureResult close_cycles(const Assembly& assembly,
     stall.reset();
     ceres::Solve(solver_options, &problem, &summary);
     functor->rotation_weight = 1.0;
-    if (std::getenv("FABKIT_DEBUG_CLOSURE")) {
-      std::fprintf(stderr,
-                   "  weight %g: cost %.3g after %zu iterations (%s)\n",
-                   rotation_weight,
-                   2 * summary.final_cost,
-                   summary.iterations.size(),
-                   summary.message.c_str());
-    }
     return 2 * summary.final_cost;
   };
   // Phase 1 closes the gap in position with orientation held loosely; phase 2 closes all.

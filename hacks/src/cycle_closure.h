@@ -23,9 +23,6 @@ ClosureResult close_cycles(const Assembly& assembly,
                            const std::vector<double>& x0,
                            const VerifyOptions& options);
 
-/// Σ‖f‖² of the closure residuals and multi-connection penalties at `x`.
-double closure_cost(const Assembly& assembly, const std::vector<double>& x);
-
 /// Per-connection closure error at `x`: position gap in mm and orientation gap in degrees.
 struct ClosureGap {
   ConnectionId connection;

@@ -396,9 +396,6 @@ class AnalyticEvaluator {
       slot.scale = v.scale[static_cast<std::size_t>(k)];
       slots_.push_back(slot);
     }
-    for (std::size_t i = 0; i < p.closures.size(); ++i) {
-      closure_row_.push_back(static_cast<int>(i));
-    }
   }
 
   void evaluate(const double* z) {
@@ -441,11 +438,9 @@ class AnalyticEvaluator {
       const Rigid<double>& owner = frames[static_cast<std::size_t>(side.part.value)];
       // World twist of the moving frame: the connector frame on this side.
       const Twist spatial = adjoint(owner.then(side.base), local);
-      double* col = nullptr;
       auto put = [&](int row, double v) {
         jacobian_[static_cast<std::size_t>(row * n_ + k)] = v * slot.scale;
       };
-      (void)col;
       if (!c.closes_cycle) {
         // Tree connection: the child and everything below it turn by ±spatial.
         const Twist tau = slot.first ? spatial : -spatial;
@@ -624,7 +619,6 @@ class AnalyticEvaluator {
   int rows_ = 0;
   std::vector<std::vector<int>> below_;
   std::vector<Slot> slots_;
-  std::vector<int> closure_row_;
   std::vector<double> last_, values_, jacobian_;
 };
 
@@ -784,8 +778,6 @@ class ManifoldSolver {
     if (!out.closed) return out;
     int it = 0;
     for (; it < max_iterations; ++it) {
-      if (std::getenv("FABKIT_DEBUG_SOLVE"))
-        std::fprintf(stderr, "relax %d f=%.12g evals=%d\n", it, cur.f, evaluations_);
       const Active act = active_set(cur);
       if (act.Z.cols() == 0) break;
       const Eigen::VectorXd rg = act.Z.transpose() * rows(cur.g, act.free);
@@ -958,7 +950,6 @@ class ManifoldSolver {
   }
 
   Point evaluate(const Eigen::VectorXd& z) {
-    ++evaluations_;
     Point p;
     p.z = z;
     eval_.evaluate(z.data());
@@ -1047,7 +1038,6 @@ class ManifoldSolver {
   AnalyticEvaluator eval_;
   int n_;
   Eigen::VectorXd lo_, hi_;
-  int evaluations_ = 0;
   std::optional<Clock::time_point> deadline_;
 };
 
@@ -1086,7 +1076,6 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   double best_score = score(best.error);
   detail::SplitMix rng(o.seed);
   for (int start = 0; start < std::max(1, o.target_starts); ++start) {
-    const auto t_start = Clock::now();
     // Nothing can beat a target that is already reached.
     if (best.error.position_mm < 1e-4 && best.error.rotation_deg < 1e-4) break;
     std::vector<double> x0 = a.values();
@@ -1113,14 +1102,6 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     StepResult r = start == 0 ? solver.fit(x0, o.max_iterations)
                               : solver.fit(x0, o.max_iterations / 5, 5 * best_score);
     best.starts = start + 1;
-    if (std::getenv("FABKIT_DEBUG_SOLVE")) {
-      std::fprintf(stderr,
-                   "step1 start %d: %d iterations, closed %d, %.1f ms\n",
-                   start,
-                   r.iterations,
-                   r.closed,
-                   ms_since(t_start));
-    }
     if (!r.closed) continue;
     for (std::size_t i = 0; i < r.x.size(); ++i) {
       if (a.parameters()[i].spec.tag == ParamTag::kUnbounded) r.x[i] = wrap_360(r.x[i]);

@@ -45,17 +45,11 @@ std::string messages(const Diagnostics& d) {
 }
 
 Vec3 to_vec3(const py::handle& h, const char* what) {
-  if (py::isinstance<py::str>(h))
-    throw py::type_error(fmt::format("{} must be three numbers", what));
-  py::sequence seq;
-  try {
-    seq = py::reinterpret_borrow<py::sequence>(h);
-  } catch (...) {
-    throw py::type_error(fmt::format("{} must be three numbers", what));
-  }
-  if (!py::isinstance<py::sequence>(h) || py::len(seq) != 3) {
+  if (py::isinstance<py::str>(h) || !py::isinstance<py::sequence>(h) ||
+      py::len(py::reinterpret_borrow<py::sequence>(h)) != 3) {
     throw py::type_error(fmt::format("{} must be a list of three numbers, like [0, 0, 100]", what));
   }
+  const auto seq = py::reinterpret_borrow<py::sequence>(h);
   Vec3 v;
   for (int i = 0; i < 3; ++i) {
     try {
