@@ -737,6 +737,15 @@ Design load_design_text(std::string_view yaml,
 Design load_design(const std::filesystem::path& path,
                    const PartsLibrary& library,
                    const DesignOptions& options) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    Design design;
+    design.source = path;
+    design.diagnostics.error(DiagnosticCode::kUnreadableFile,
+                             fmt::format("'{}' is a directory, not a design file", path.string()),
+                             SourceLocation{path.string(), 0, 0});
+    return design;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     Design design;

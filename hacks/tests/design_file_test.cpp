@@ -188,6 +188,14 @@ connections:
   EXPECT_TRUE(d.steps[4].accepted);  // t comes in here instead
 }
 
+TEST(DesignFile, DirectoryIsNotADesign) {
+  const Design d =
+      load_design(std::string(FABKIT_SOURCE_DIR) + "/examples", PartsLibrary::builtin());
+  EXPECT_FALSE(d.readable);
+  EXPECT_TRUE(has_diagnostic(
+      d.diagnostics, DiagnosticCode::kUnreadableFile, "is a directory, not a design file"));
+}
+
 TEST(DesignFile, UnreadableFile) {
   const Design d = load_design("/nonexistent/dir/design.yaml", PartsLibrary::builtin());
   EXPECT_FALSE(d.readable);
