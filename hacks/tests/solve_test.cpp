@@ -221,6 +221,24 @@ TEST(Solve, HookSlidesOffATiltedOpenRod) {
   EXPECT_TRUE(held.stable) << held.summary();
 }
 
+// A hook free to slide on a level rod is neutral: relaxation must not drive it to an end
+// (the reference's Newton step runs it to t = 1 and reports a fall).
+TEST(Solve, NeutralSlidingStaysPut) {
+  std::string level = kTiltedRod;
+  level.replace(level.find("rot: [70, 0, 90]"), 16, "rot: [90, 0, 90]");
+  const Design d = load_text(level);
+  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+  const SolveResult r = solve(d.assembly);
+  EXPECT_TRUE(r.stable) << r.summary();
+  // The rod's t (parameter 0) stays about where step 1 left it (within 2 mm of the 200 mm rod),
+  // away from both ends.
+  const double t1 = r.step1_parameters[0];
+  const double t2 = r.parameters[0];
+  EXPECT_NEAR(t2, t1, 0.01);
+  EXPECT_GT(t2, 0.01);
+  EXPECT_LT(t2, 0.99);
+}
+
 // A ring hung on an open hook whose opening points down slides off the hook's end.
 TEST(Solve, RingSlidesOffAHookOpeningDown) {
   // A 180° hook arc starts at its bottom and sweeps up one side to its tip. Turned over by
