@@ -294,6 +294,42 @@ struct EditorServer::Impl {
       reply(res, 200, out);
     });
 
+    // Geometry of a loose primitive (an environment made of primitives, e.g. a table
+    // surface): the primitive's own coordinates, sizes from the query (mm, degrees).
+    http.Get(
+        R"(/api/primitives/([a-z]{3,12})/mesh)",
+        [](const httplib::Request& req, httplib::Response& res) {
+          const auto type = primitive_type_from_string(req.matches[1].str());
+          if (!type) {
+            reply_error(res, 404, fmt::format("unknown primitive type '{}'", req.matches[1].str()));
+            return;
+          }
+          Primitive p = Primitive::make(std::string(to_string(*type)), *type, {});
+          for (const auto& [key, value] : req.params) {
+            double* field = shape_field(p.shape, key);
+            const auto names = shape_field_names(*type);
+            if (!field || std::find(names.begin(), names.end(), key) == names.end()) {
+              reply_error(res, 400, fmt::format("a {} has no size '{}'", to_string(*type), key));
+              return;
+            }
+            char* end = nullptr;
+            *field = std::strtod(value.c_str(), &end);
+            if (end == value.c_str() || *end != '\0') {
+              reply_error(res, 400, fmt::format("{} must be a number, not '{}'", key, value));
+              return;
+            }
+          }
+          Diagnostics d;
+          p.validate(to_string(*type), d);
+          if (d.has_errors()) {
+            reply_error(res, 400, messages_of(d), diagnostics_json(d));
+            return;
+          }
+          reply(res,
+                200,
+                {{"type", std::string(to_string(*type))}, {"mesh", mesh_json(primitive_mesh(p))}});
+        });
+
     http.Get("/api/design", [this](const httplib::Request&, httplib::Response& res) {
       if (options.initial_design.empty()) {
         reply_error(res, 404, "the server was started without a design");

@@ -116,6 +116,23 @@ TEST_F(ServerTest, PartMeshesAndParameters) {
             std::string::npos);
 }
 
+TEST_F(ServerTest, LoosePrimitiveMeshes) {
+  auto r = client_->Get("/api/primitives/surface/mesh?width=400&length=400");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200);
+  EXPECT_GT(json::parse(r->body)["mesh"]["faces"].size(), 0u);
+  r = client_->Get("/api/primitives/rod/mesh?radius=-5&length=100");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 400);
+  EXPECT_NE(r->body.find("must be positive"), std::string::npos);
+  r = client_->Get("/api/primitives/rod/mesh?colour=3");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 400);
+  r = client_->Get("/api/primitives/spring/mesh");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 404);
+}
+
 TEST_F(ServerTest, InitialDesign) {
   const auto r = client_->Get("/api/design");
   ASSERT_TRUE(r);
