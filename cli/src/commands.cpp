@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -125,7 +126,13 @@ std::string stage_title(std::string_view stage) {
 void print_parts_table(const hacks::SolveResult& r) {
   std::printf("\n  %-22s %-18s %28s   %s\n", "part", "type", "position (mm)", "rotation (deg)");
   for (const hacks::SolvedPart& p : r.parts) {
-    const Frame f = p.frame.normalized();
+    Frame f = p.frame.normalized();
+    // Round first so tiny negatives print as 0.0, not -0.0.
+    for (int i = 0; i < 3; ++i) {
+      f.pos[i] = std::round(f.pos[i] * 10) / 10 + 0.0;
+      f.rot[i] = std::round(f.rot[i] * 10) / 10 + 0.0;
+      if (f.rot[i] >= 360.0) f.rot[i] -= 360.0;
+    }
     std::printf("  %-22s %-18s [%8.1f %8.1f %8.1f]   [%6.1f %6.1f %6.1f]%s\n",
                 p.name.c_str(),
                 p.type.c_str(),
