@@ -51,6 +51,12 @@ export const api = {
     const q = params && Object.keys(params).length ? '?' + new URLSearchParams(Object.entries(params).map(([k, v]) => [k, String(v)])) : '';
     return json(await fetch(`${base}/parts/${encodeURIComponent(part)}/mesh${q}`));
   },
+  /** Geometry of a loose primitive in its own coordinates (GET /api/primitives/{type}/mesh). */
+  primMesh: async (type: string, sizes: Record<string, number>): Promise<MeshData> => {
+    const q = new URLSearchParams(Object.entries(sizes).map(([k, v]) => [k, String(v)]));
+    const r: { type: string; mesh: MeshData } = await json(await fetch(`${base}/primitives/${encodeURIComponent(type)}/mesh?${q}`));
+    return r.mesh;
+  },
   design: async (): Promise<string | null> => {
     const res = await fetch(`${base}/design`);
     return res.ok ? res.text() : null;

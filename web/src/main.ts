@@ -2,9 +2,9 @@
 import './style.css';
 import * as THREE from 'three';
 import { api, ApiError } from './api';
-import type { CheckResult, CheckStep, Compat, Frame, PartInfo, PartMesh, PlacedPart, PrimRef, SolveResult, Vec3 } from './api';
+import type { CheckResult, CheckStep, Compat, Frame, MeshData, PartInfo, PartMesh, PlacedPart, PrimRef, SolveResult, Vec3 } from './api';
 import { History, Inventory, cloneDesign, countOf, emptyDesign, freshName, instances, removeInstance } from './model';
-import type { Connection, Design } from './model';
+import type { Connection, Design, EnvItem } from './model';
 import { designToYaml, parseDesign } from './yamlio';
 import { designToPython } from './python';
 import { SceneView, frameMatrix } from './scene';
@@ -29,6 +29,11 @@ let failed: { conn: Connection; step: CheckStep | null; message: string; check: 
 let checkSeq = 0;
 /** The name typed for the next new instance of the selected library part (kept across re-renders). */
 let nameDraft: { part: string; name: string } | null = null;
+/** Parameters typed for the next new instance of a parametric part, per part. */
+const paramDraft = new Map<string, Record<string, number>>();
+/** Table 1 by primitive type (union of the library's `connects_to` lists), for loose primitives. */
+const typeConnects = new Map<string, Set<string>>();
+const primMeshCache = new Map<string, Promise<MeshData>>();
 let pending = 0;
 /** Counts running async UI operations so tests (and the status line) can tell when the editor is idle. */
 function track<T>(p: Promise<T>): Promise<T> {
@@ -60,7 +65,42 @@ function meshOf(type: string, params?: Record<string, number>): Promise<PartMesh
   if (!meshCache.has(key)) meshCache.set(key, api.mesh(partInfo(type)?.name ?? type, params));
   return meshCache.get(key)!;
 }
-function typeOfInstance(name: string): string | undefined { return instances(design()).find((i) => i.name === name)?.part; }
+function typeOfInstance(name: string): string | undefined {
+  return instances(design()).find((i) => i.name === name)?.part ?? (looseEnv(name) ? 'loose primitives' : undefined);
+}
+/** An environment made of loose primitives (no library part). */
+function looseEnv(name: string): EnvItem | undefined { return design().environment.find((e) => e.name === name && !e.part && e.primitives); }
+function looseSpec(e: EnvItem, prim: string): Record<string, unknown> | undefined { return (e.primitives ?? {})[prim] as Record<string, unknown> | undefined; }
+/** The primitive type of a scene key ("eyehook1.hook" → hook, "table.surface" → surface). */
+function primTypeOf(key: string): string | undefined {
+  const [inst, prim] = key.split('.');
+  const e = looseEnv(inst);
+  if (e) { const t = looseSpec(e, prim)?.type; return t === undefined ? undefined : String(t); }
+  return partInfo(typeOfInstance(inst) ?? '')?.primitives.find((p) => p.name === prim)?.type;
+}
+const isLooseKey = (key: string) => !!looseEnv(key.split('.')[0]);
+function frameOfSpec(f: any): Frame { return { pos: (f?.pos ?? [0, 0, 0]).map(Number) as Vec3, rot: (f?.rot ?? [0, 0, 0]).map(Number) as Vec3 }; }
+/** Meshes of a loose-primitive environment, each placed by the primitive's own frame inside the part. */
+async function looseMeshOf(e: EnvItem): Promise<{ mesh: PartMesh; primTypes: Record<string, string> }> {
+  const mesh: PartMesh = { name: e.name, body: { vertices: [], faces: [] }, primitives: {} };
+  const primTypes: Record<string, string> = {};
+  for (const [prim, raw] of Object.entries(e.primitives ?? {})) {
+    const spec = raw as Record<string, unknown>;
+    const type = String(spec.type ?? '');
+    const sizes: Record<string, number> = {};
+    for (const [k, v] of Object.entries(spec)) if (k !== 'type' && k !== 'frame') sizes[k] = Number(v);
+    const key = type + JSON.stringify(sizes);
+    if (!primMeshCache.has(key)) primMeshCache.set(key, api.primMesh(type, sizes));
+    let m: MeshData;
+    try { m = await primMeshCache.get(key)!; } catch (err) { primMeshCache.delete(key); message(`cannot draw ${e.name}.${prim}: ${(err as Error).message}`); continue; }
+    const mat = frameMatrix(frameOfSpec(spec.frame));
+    const v = new THREE.Vector3(), out: number[] = [];
+    for (let i = 0; i < m.vertices.length; i += 3) { v.set(m.vertices[i], m.vertices[i + 1], m.vertices[i + 2]).applyMatrix4(mat); out.push(v.x, v.y, v.z); }
+    mesh.primitives[prim] = { vertices: out, faces: m.faces };
+    primTypes[prim] = type;
+  }
+  return { mesh, primTypes };
+}
 function refOf(key: string): PrimRef | null {
   const [inst, prim] = key.split('.');
   const i = instances(design()).find((x) => x.name === inst);
@@ -129,6 +169,12 @@ async function updateScene(): Promise<void> {
     if (inst) jobs.push(add(p.name, inst.part, p.frame, false, inst.params));
   }
   await Promise.all(jobs);
+  // loose-primitive environments: at the checked/solved frame, else where the user put them
+  for (const e of d.environment) if (!e.part && e.primitives) {
+    seen.add(e.name);
+    const { mesh, primTypes } = await looseMeshOf(e);
+    parts.push({ name: e.name, type: 'Environment', frame: placed.find((p) => p.name === e.name)?.frame ?? e.frame, mesh, primTypes });
+  }
   // environment and target that the check did not place yet: show them where the user put them
   for (const e of d.environment) if (e.part && !seen.has(e.name)) await add(e.name, e.part, e.frame, false);
   if (d.target && !seen.has(d.target.name)) await add(d.target.name, d.target.part, partFrameFromPrimFrame(d.target.part, d.target.primitive, d.target.frame), true);
@@ -158,17 +204,37 @@ function slippingConnections(): number[] {
 }
 
 // ---------------------------------------------------------------- picking & connecting
+/** Table 1 by primitive type only (for loose primitives, which /api/compatible does not know). */
+function typeRule(a: string | undefined, b: string | undefined): Compat {
+  if (!a || !b) return { ok: true, reason: 'sizes are checked when you connect' };
+  const ok = typeConnects.get(a)?.has(b) ?? false;
+  return ok ? { ok, reason: `${a} – ${b}: allowed by Table 1; sizes are checked when you connect` }
+    : { ok, reason: `a ${a} cannot connect to a ${b} (Table 1); sizes are checked when you connect` };
+}
+
 async function computeCompat(): Promise<void> {
   compat = new Map();
   if (!pick) return;
   let a: PrimRef | null;
-  if (pick.scene) a = refOf(pick.scene); else a = { part: pick.lib!.part, primitive: pick.lib!.prim };
-  if (!a) return;
-  const keys: string[] = [], refs: PrimRef[] = [];
-  for (const key of view.primMeshes.keys()) { const r = refOf(key); if (r && key !== pick.scene) { keys.push(key); refs.push(r); } }
+  let aType: string | undefined;
   const lib = selectedLibPart ? partInfo(selectedLibPart) : undefined;
-  if (lib) for (const p of lib.primitives) { keys.push(`lib:${lib.name}.${p.name}`); refs.push({ part: lib.name, primitive: p.name }); }
-  if (!refs.length) return;
+  if (pick.scene) { a = isLooseKey(pick.scene) ? null : refOf(pick.scene); aType = primTypeOf(pick.scene); }
+  else {
+    a = { part: pick.lib!.part, primitive: pick.lib!.prim };
+    const pd = paramDraft.get(pick.lib!.part); if (pd && Object.keys(pd).length) a.params = pd;
+    aType = partInfo(pick.lib!.part)?.primitives.find((p) => p.name === pick!.lib!.prim)?.type;
+  }
+  const keys: string[] = [], refs: PrimRef[] = [];
+  for (const key of view.primMeshes.keys()) {
+    if (key === pick.scene) continue;
+    if (!a || isLooseKey(key)) { compat.set(key, typeRule(aType, primTypeOf(key))); continue; }
+    const r = refOf(key); if (r) { keys.push(key); refs.push(r); }
+  }
+  if (lib) for (const p of lib.primitives) {
+    if (!a) { compat.set(`lib:${lib.name}.${p.name}`, typeRule(aType, p.type)); continue; }
+    keys.push(`lib:${lib.name}.${p.name}`); refs.push({ part: lib.name, primitive: p.name });
+  }
+  if (!refs.length || !a) return;
   const res = await api.compatible(a, refs);
   res.forEach((r, i) => compat.set(keys[i], r));
 }
@@ -213,7 +279,8 @@ async function connect(a: string | null, b: string, lib: { part: string; prim: s
     }
     let name = (nameDraft?.part === lib.part ? nameDraft.name.trim() : '') || freshName(next, lib.part.toLowerCase());
     if (instances(next).some((i) => i.name === name) || next.environment.some((e) => e.name === name)) name = freshName(next, name.replace(/\d+$/, ''));
-    next.parts.push({ name, part: lib.part });
+    const pd = paramDraft.get(lib.part);
+    next.parts.push(pd && Object.keys(pd).length ? { name, part: lib.part, params: { ...pd } } : { name, part: lib.part });
     a = `${name}.${lib.prim}`;
   }
   const conn: Connection = { a: a!, b };
@@ -318,6 +385,7 @@ function renderPrimPanel(): void {
     el('div', {}, el('b', { 'data-testid': 'prim-panel-part' }, info.name), ` — ${info.description}`),
     el('div', { class: 'hint' }, `in design: ${countOf(d, info.name)}; owned: `, ownedInput),
     el('div', {}, 'new instance name ', nameInput),
+    ...paramFields(info, paramDraft.get(info.name) ?? defaultParams(info), 'new-param', (vals) => { paramDraft.set(info.name, vals); if (pick) void track(afterPickChange()); }),
     el('div', {},
       button('Set as environment', 'set-environment', () => setEnvironment(info.name)),
       button('Set as target', 'set-target', () => setTarget(info.name))),
@@ -333,6 +401,30 @@ function renderPrimPanel(): void {
     item.addEventListener('click', () => void track(pickLibrary(info.name, p.name)));
     body.append(item);
   }
+}
+
+function defaultParams(info: PartInfo): Record<string, number> {
+  return Object.fromEntries(info.params.map((p) => [p.name, p.default]));
+}
+
+/** Numeric fields for a parametric part's parameters (schema min/max/default/unit); onChange gets all values. */
+function paramFields(info: PartInfo, values: Record<string, number>, testid: string, onChange: (v: Record<string, number>) => void): HTMLElement[] {
+  return info.params.map((p) => {
+    const input = el('input', {
+      type: 'number', min: String(p.min), max: String(p.max), step: 'any', value: String(values[p.name] ?? p.default),
+      'data-testid': `${testid}-${p.name}`, title: `${p.doc} (${p.min}–${p.max} ${p.unit}, default ${p.default})`, style: 'width:80px',
+    }) as HTMLInputElement;
+    input.addEventListener('change', () => {
+      const x = Number(input.value);
+      if (input.value === '' || Number.isNaN(x) || x < p.min || x > p.max) {
+        message(`${info.name} ${p.name} must be between ${p.min} and ${p.max} ${p.unit}`);
+        input.value = String(values[p.name] ?? p.default); return;
+      }
+      message('');
+      onChange({ ...defaultParams(info), ...values, [p.name]: x });
+    });
+    return el('div', { class: 'param-field' }, `${p.name} `, input, ` ${p.unit}`);
+  });
 }
 
 function button(text: string, testid: string, onClick: () => void, extra: Record<string, string> = {}): HTMLButtonElement {
@@ -429,6 +521,16 @@ function renderInstances(): void {
       el('span', {}, `${i.name} (${i.part}, ${i.role})`),
       button('select', `select-${i.name}`, () => selectPart(i.name)),
       button('delete', `delete-${i.name}`, () => history.apply(removeInstance(design(), i.name), `delete ${i.name}`)));
+    const info = partInfo(i.part);
+    if (i.role === 'part' && info?.params.length) {
+      li.append(...paramFields(info, { ...defaultParams(info), ...(i.params ?? {}) }, `param-${i.name}`, (vals) => {
+        const n = cloneDesign(design());
+        const p = n.parts.find((x) => x.name === i.name); if (!p) return;
+        if (JSON.stringify({ ...defaultParams(info), ...(p.params ?? {}) }) === JSON.stringify(vals)) return; // unchanged (e.g. a repeated change event)
+        p.params = vals;
+        history.apply(n, `params ${i.name}`);
+      }));
+    }
     host.append(li);
   }
 }
@@ -438,12 +540,13 @@ function renderScenePrims(): void {
   for (const key of view.primMeshes.keys()) {
     const c = compat.get(key);
     const dim = !!pick && !!c && !c.ok;
-    const type = partInfo(typeOfInstance(key.split('.')[0]) ?? '')?.primitives.find((p) => p.name === key.split('.')[1])?.type ?? '';
+    const type = primTypeOf(key) ?? '';
+    const loose = isLooseKey(key);
     const bad = !!failed && (failed.conn.a === key || failed.conn.b === key);
     const li = el('li', {
       class: 'scene-prim' + (dim ? ' dim' : '') + (pick?.scene === key ? ' picked' : '') + (selected.prim === key ? ' selected' : '') + (bad ? ' bad' : ''),
-      'data-testid': `scene-prim-${key}`, title: dim ? c!.reason : '',
-    }, el('span', {}, key), el('small', {}, type + (dim ? ' — cannot connect' : '') + (bad ? ' — failed connect' : '')));
+      'data-testid': `scene-prim-${key}`, title: dim ? c!.reason : loose ? 'loose primitive: sizes are checked when you connect' : '',
+    }, el('span', {}, key), el('small', {}, type + (loose ? ' (loose)' : '') + (dim ? ' — cannot connect' : '') + (bad ? ' — failed connect' : '')));
     li.addEventListener('click', () => void track(pickScene(key)));
     host.append(li);
   }
@@ -467,7 +570,8 @@ function renderSelection(): void {
   let text = 'Nothing selected';
   if (selected.prim) {
     const [inst, prim] = selected.prim.split('.');
-    const type = partInfo(typeOfInstance(inst) ?? '')?.primitives.find((p) => p.name === prim)?.type;
+    const type = primTypeOf(selected.prim);
+    void prim;
     text = `Selected: primitive ${selected.prim}${type ? ` (${type})` : ''} of part ${inst} (${typeOfInstance(inst) ?? '?'})`;
   } else if (selected.part) text = `Selected: part ${selected.part} (${typeOfInstance(selected.part) ?? '?'})`;
   $('selection-label').textContent = text;
@@ -486,7 +590,7 @@ view.onHover = (key, x, y) => {
   const t = $('tooltip');
   const c = key ? compat.get(key) : undefined;
   if (key && pick && c && !c.ok) { t.hidden = false; t.textContent = `${key}: ${c.reason}`; t.style.left = `${x + 12}px`; t.style.top = `${y + 12}px`; }
-  else if (key) { t.hidden = false; t.textContent = key; t.style.left = `${x + 12}px`; t.style.top = `${y + 12}px`; }
+  else if (key) { t.hidden = false; t.textContent = isLooseKey(key) ? `${key} (loose ${primTypeOf(key) ?? ''}; sizes are checked when you connect)` : key; t.style.left = `${x + 12}px`; t.style.top = `${y + 12}px`; }
   else t.hidden = true;
 };
 $('part-search').addEventListener('input', renderLibrary);
@@ -524,6 +628,8 @@ function openYaml(text: string): void {
   designYaml: () => designToYaml(design()),
   python: () => designToPython(design()),
   screenPointOf: (key: string) => view.screenPointOf(key),
+  /** Scene keys ("inst.prim") that have a mesh in the 3D view, with their triangle counts. */
+  sceneMeshes: () => Object.fromEntries([...view.primMeshes].map(([k, m]) => [k, (m.geometry.index?.count ?? 0) / 3])),
   setCamera: (pos: Vec3, target: Vec3) => { view.camera.position.set(...pos); view.controls.target.set(...target); view.controls.update(); view.render(); },
   ready: false,
   idle: () => pending === 0,
@@ -532,7 +638,10 @@ function openYaml(text: string): void {
 (async () => {
   setStatus('loading parts…');
   library = await api.parts();
-  for (const p of library) partByName.set(p.name, p);
+  for (const p of library) {
+    partByName.set(p.name, p);
+    for (const q of p.primitives) { if (!typeConnects.has(q.type)) typeConnects.set(q.type, new Set()); for (const t of q.connects_to) typeConnects.get(q.type)!.add(t); }
+  }
   buildLibrary();
   setStatus('');
   const initial = await api.design();

@@ -90,9 +90,11 @@ export class SceneView {
       g.matrixAutoUpdate = false;
       g.matrix.copy(frameMatrix(p.frame));
       g.userData.part = p.name;
-      const body = new THREE.Mesh(geometryOf(p.mesh.body), new THREE.MeshStandardMaterial({ color: 0xc8c8c8, transparent: !!p.ghost, opacity: p.ghost ? 0.35 : 1, roughness: 0.8, polygonOffset: true, polygonOffsetFactor: 2, polygonOffsetUnits: 2 }));
-      body.userData = { part: p.name };
-      g.add(body); this.bodyMeshes.set(p.name, body);
+      if (p.mesh.body.faces.length) { // loose-primitive environments have no body
+        const body = new THREE.Mesh(geometryOf(p.mesh.body), new THREE.MeshStandardMaterial({ color: 0xc8c8c8, transparent: !!p.ghost, opacity: p.ghost ? 0.35 : 1, roughness: 0.8, polygonOffset: true, polygonOffsetFactor: 2, polygonOffsetUnits: 2 }));
+        body.userData = { part: p.name };
+        g.add(body); this.bodyMeshes.set(p.name, body);
+      }
       for (const [prim, m] of Object.entries(p.mesh.primitives)) {
         const color = PRIM_COLORS[p.primTypes[prim]] ?? 0x999999;
         const mesh = new THREE.Mesh(geometryOf(m), new THREE.MeshStandardMaterial({ color, transparent: true, opacity: p.ghost ? 0.5 : 1, roughness: 0.5 }));

@@ -300,6 +300,56 @@ try {
     await p.close();
   });
 
+  await test('m loose-primitive-environment', async () => {
+    const p = await freshPage();
+    await p.getByTestId('open-file').setInputFiles(path.join(repo, 'examples/hacks/toothbrush_holder.yaml'));
+    await idle(p);
+    const item = p.getByTestId('scene-prim-table.surface');
+    assert(await item.count() === 1, 'table.surface not in the scene-primitives list');
+    const meshes = await p.evaluate(() => window.__fabkit.sceneMeshes());
+    assert(meshes['table.surface'] > 0, `no mesh for table.surface: ${JSON.stringify(meshes)}`);
+    assert((await item.getAttribute('title')).includes('sizes are checked when you connect'), 'loose tooltip');
+    // pickable: clicking it selects it and filters by Table 1 (a hemisphere may touch it, a hook may not)
+    await click(p, 'scene-prim-table.surface');
+    assert((await p.getByTestId('selection-label').textContent()).includes('table.surface (surface)'), 'selection label');
+    assert(!(await p.getByTestId('scene-prim-clip.hemisphere1').getAttribute('class')).includes('dim'), 'hemisphere dimmed');
+    assert((await p.getByTestId('scene-prim-clip.clip').getAttribute('class')).includes('dim'), 'clip not dimmed');
+    await p.keyboard.press('Escape'); await idle(p);
+    await click(p, 'solve');
+    assert((await p.getByTestId('verdict').textContent()) === 'STABLE', 'verdict');
+    const py = await p.evaluate(() => window.__fabkit.python());
+    assert(py.includes('surface = Surface({"width": 400, "length": 400})') && py.includes('table = Environment({"surface": surface})'), py);
+    const dir = mkdtempSync(path.join(tmpdir(), 'fabkit-py-'));
+    writeFileSync(path.join(dir, 'toothbrush.py'), py + '\nresult = assembly.solve()\nprint("stable", result.stable)\n');
+    const out = execFileSync(fabkit, ['run', path.join(dir, 'toothbrush.py')], { encoding: 'utf8', timeout: 120000 });
+    assert(/stable True/.test(out), out);
+    await p.close();
+  });
+
+  await test('n part-parameters', async () => {
+    const p = await freshPage();
+    await selectLibPart(p, 'CeilingHook', 'CeilingHook');
+    await click(p, 'set-environment');
+    await selectLibPart(p, 'ParamTurnbuckle', 'ParamTurnbuckle');
+    await setField(p, 'new-param-extended_length', 25.135);
+    await connectNew(p, 'ParamTurnbuckle', 'tb1', 'hook1', 'env1.hook');
+    assert((await connectionTexts(p)).length === 1, `not connected: ${await p.getByTestId('failed-connect').textContent()}`);
+    let yaml = await p.evaluate(() => window.__fabkit.designYaml());
+    assert(yaml.includes('extended_length: 25.135'), yaml);
+    assert((await p.evaluate(() => window.__fabkit.python())).includes('ParamTurnbuckle({"extended_length": 25.135})'), 'python params');
+    // per-instance edit is an undoable command
+    await setField(p, 'param-tb1-extended_length', 40);
+    yaml = await p.evaluate(() => window.__fabkit.designYaml());
+    assert(yaml.includes('extended_length: 40'), yaml);
+    await click(p, 'undo');
+    yaml = await p.evaluate(() => window.__fabkit.designYaml());
+    assert(yaml.includes('extended_length: 25.135'), 'undo of parameter edit: ' + yaml);
+    await click(p, 'undo');
+    yaml = await p.evaluate(() => window.__fabkit.designYaml());
+    assert(!yaml.includes('tb1') && !yaml.includes('ParamTurnbuckle'), 'undo did not remove the part: ' + yaml);
+    await p.close();
+  });
+
   await test('h load-design-from-server', async () => {
     const p = await freshPage(url2);
     assert((await connectionTexts(p)).length === 4, 'design from the server not loaded');
