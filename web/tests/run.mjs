@@ -303,8 +303,10 @@ try {
   await test('m loose-primitive-environment', async () => {
     const p = await freshPage();
     await p.getByTestId('open-file').setInputFiles(path.join(repo, 'examples/hacks/toothbrush_holder.yaml'));
-    await idle(p);
+    // The file is read asynchronously: wait for the design to show up, then for the editor.
     const item = p.getByTestId('scene-prim-table.surface');
+    await item.waitFor({ timeout: 30000 }).catch(() => {});
+    await idle(p);
     assert(await item.count() === 1, 'table.surface not in the scene-primitives list');
     const meshes = await p.evaluate(() => window.__fabkit.sceneMeshes());
     assert(meshes['table.surface'] > 0, `no mesh for table.surface: ${JSON.stringify(meshes)}`);
