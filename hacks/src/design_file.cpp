@@ -8,39 +8,17 @@
 #include <set>
 #include <sstream>
 
+#include "fabkit/core/names.h"
+
 namespace fabkit::hacks {
 namespace {
 
 constexpr double kMaxCoordinateMm = 1e5;  // 100 m: anything bigger is a unit mistake
 constexpr std::string_view kFormatTag = "hacks/1";
 
-int edit_distance(std::string_view a, std::string_view b) {
-  std::vector<int> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = static_cast<int>(j);
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    int diag = row[0];
-    row[0] = static_cast<int>(i);
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const int up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
 std::string did_you_mean(std::string_view name, const std::vector<std::string>& options) {
-  std::string best;
-  int best_d = 1 << 20;
-  for (const auto& o : options) {
-    const int d = edit_distance(name, o);
-    if (d < best_d) {
-      best_d = d;
-      best = o;
-    }
-  }
-  if (best.empty() || best_d > std::max<int>(2, static_cast<int>(name.size()) / 3)) return "";
-  return fmt::format("; did you mean '{}'?", best);
+  const std::string best = closest_name(name, options);
+  return best.empty() ? "" : fmt::format("; did you mean '{}'?", best);
 }
 
 // Reads one file's YAML into the design, collecting diagnostics with file:line.

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "fabkit/core/mesh_io.h"
+#include "fabkit/core/names.h"
 
 namespace fabkit::hacks {
 namespace {
@@ -30,43 +31,6 @@ std::string join(const std::vector<std::string>& items, std::string_view sep = "
     out += s;
   }
   return out;
-}
-
-// Optimal-string-alignment distance: insertions, deletions, substitutions and adjacent
-// transpositions ("Mgu" -> "Mug") each cost 1.
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  const std::size_t n = a.size();
-  const std::size_t m = b.size();
-  std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1, 0));
-  for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
-  for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
-  for (std::size_t i = 1; i <= n; ++i) {
-    for (std::size_t j = 1; j <= m; ++j) {
-      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
-        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-      }
-    }
-  }
-  return d[n][m];
-}
-
-// Closest candidate to `name` (case-insensitive), or "" when nothing is reasonably close:
-// at most a third of the name's length may differ (at least 1, at most 3 edits).
-std::string closest(std::string_view name, const std::vector<std::string>& candidates) {
-  const std::string l = lower(name);
-  const std::size_t limit = std::clamp<std::size_t>(l.size() / 3, 1, 3);
-  std::string best;
-  std::size_t best_d = limit + 1;
-  for (const std::string& c : candidates) {
-    const std::size_t dist = edit_distance(l, lower(c));
-    if (dist < best_d && dist < std::max<std::size_t>(l.size(), 1)) {
-      best = c;
-      best_d = dist;
-    }
-  }
-  return best;
 }
 
 bool is_identifier(std::string_view s) {
@@ -179,7 +143,7 @@ class PartFileReader {
       const std::string key = kv.first.as<std::string>("");
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
         std::string msg = fmt::format("unknown key '{}' in {}", key, what);
-        const std::string near = closest(key, allowed);
+        const std::string near = closest_name(key, allowed);
         if (!near.empty()) msg += fmt::format(" (did you mean '{}'?)", near);
         msg += fmt::format("; valid keys: {}", join(allowed));
         error(DiagnosticCode::kUnknownName, std::move(msg), at(kv.first));
@@ -601,7 +565,7 @@ std::string PartsLibrary::suggest(std::string_view name) const {
   for (const PartGenerator& g : generators_) {
     candidates.insert(candidates.end(), g.aliases.begin(), g.aliases.end());
   }
-  return closest(name, candidates);
+  return closest_name(name, candidates);
 }
 
 std::shared_ptr<Part> PartsLibrary::make(std::string_view name,
@@ -630,7 +594,7 @@ std::shared_ptr<Part> PartsLibrary::make(std::string_view name,
         msg = fmt::format("part {} has no parameters (got '{}')", gen->name, key);
       } else {
         msg = fmt::format("part {} has no parameter '{}'", gen->name, key);
-        const std::string near = closest(key, valid);
+        const std::string near = closest_name(key, valid);
         if (!near.empty()) msg += fmt::format(" (did you mean '{}'?)", near);
         msg += fmt::format("; valid parameters: {}", join(valid));
       }
