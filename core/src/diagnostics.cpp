@@ -5,37 +5,40 @@
 #include <array>
 
 namespace fabkit {
-namespace {
 
-struct CodeName {
-  DiagnosticCode code;
-  std::string_view name;
-};
+std::string_view to_string(DiagnosticClass c) {
+  switch (c) {
+    case DiagnosticClass::kInput:
+      return "input";
+    case DiagnosticClass::kInfeasible:
+      return "infeasible";
+    case DiagnosticClass::kFallsApart:
+      return "falls-apart";
+    case DiagnosticClass::kCheck:
+      return "check";
+    case DiagnosticClass::kIo:
+      return "io";
+    case DiagnosticClass::kTimeout:
+      return "timeout";
+    case DiagnosticClass::kInternal:
+      return "internal";
+  }
+  return "internal";
+}
 
-constexpr std::array kCodeNames = {
-    CodeName{DiagnosticCode::kMalformedInput, "malformed-input"},
-    CodeName{DiagnosticCode::kUnreadableFile, "unreadable-file"},
-    CodeName{DiagnosticCode::kInvalidValue, "invalid-value"},
-    CodeName{DiagnosticCode::kUnknownName, "unknown-name"},
-    CodeName{DiagnosticCode::kUnknownPart, "unknown-part"},
-    CodeName{DiagnosticCode::kUnknownPrimitive, "unknown-primitive"},
-    CodeName{DiagnosticCode::kDuplicateName, "duplicate-name"},
-    CodeName{DiagnosticCode::kNotInAssembly, "not-in-assembly"},
-    CodeName{DiagnosticCode::kPairNotAllowed, "pair-not-allowed"},
-    CodeName{DiagnosticCode::kBothClosed, "both-closed"},
-    CodeName{DiagnosticCode::kDimensionMismatch, "dimension-mismatch"},
-    CodeName{DiagnosticCode::kNoSpaceLeft, "no-space-left"},
-    CodeName{DiagnosticCode::kSingleConnection, "single-connection"},
-    CodeName{DiagnosticCode::kAlreadyConnected, "already-connected"},
-    CodeName{DiagnosticCode::kMultiConnection, "multi-connection"},
-    CodeName{DiagnosticCode::kCycleTooLong, "cycle-too-long"},
-    CodeName{DiagnosticCode::kCycleNotClosable, "cycle-not-closable"},
-    CodeName{DiagnosticCode::kNoEnvironment, "no-environment"},
-    CodeName{DiagnosticCode::kTargetMissing, "target-missing"},
-    CodeName{DiagnosticCode::kNotConnected, "not-connected"},
-};
-
-}  // namespace
+std::span<const DiagnosticCode> core_codes() {
+  static constexpr std::array kAll = {codes::kMalformedInput,
+                                      codes::kUnreadableFile,
+                                      codes::kInvalidValue,
+                                      codes::kUnknownName,
+                                      codes::kDuplicateName,
+                                      codes::kUnknownKit,
+                                      codes::kLimitExceeded,
+                                      codes::kWriteFailed,
+                                      codes::kTimeLimit,
+                                      codes::kInternalError};
+  return kAll;
+}
 
 std::string_view to_string(Severity s) {
   switch (s) {
@@ -47,20 +50,6 @@ std::string_view to_string(Severity s) {
       return "note";
   }
   return "error";
-}
-
-std::string_view to_string(DiagnosticCode c) {
-  for (const auto& [code, name] : kCodeNames) {
-    if (code == c) return name;
-  }
-  return "unknown";
-}
-
-std::optional<DiagnosticCode> diagnostic_code_from_string(std::string_view s) {
-  for (const auto& [code, name] : kCodeNames) {
-    if (name == s) return code;
-  }
-  return std::nullopt;
 }
 
 std::string Diagnostic::format() const {
@@ -82,6 +71,10 @@ void Diagnostics::warning(DiagnosticCode code, std::string message, SourceLocati
   items_.push_back({Severity::kWarning, code, std::move(message), std::move(where)});
 }
 
+void Diagnostics::note(DiagnosticCode code, std::string message, SourceLocation where) {
+  items_.push_back({Severity::kNote, code, std::move(message), std::move(where)});
+}
+
 void Diagnostics::append(const Diagnostics& other) {
   items_.insert(items_.end(), other.items_.begin(), other.items_.end());
 }
@@ -91,6 +84,26 @@ bool Diagnostics::has_errors() const {
     if (d.severity == Severity::kError) return true;
   }
   return false;
+}
+
+bool Diagnostics::has_errors_of(DiagnosticClass c) const {
+  for (const auto& d : items_) {
+    if (d.severity == Severity::kError && d.kind() == c) return true;
+  }
+  return false;
+}
+
+std::optional<DiagnosticClass> Diagnostics::deciding_class() const {
+  for (DiagnosticClass c : {DiagnosticClass::kInput,
+                            DiagnosticClass::kIo,
+                            DiagnosticClass::kInternal,
+                            DiagnosticClass::kTimeout,
+                            DiagnosticClass::kInfeasible,
+                            DiagnosticClass::kFallsApart,
+                            DiagnosticClass::kCheck}) {
+    if (has_errors_of(c)) return c;
+  }
+  return std::nullopt;
 }
 
 std::string Diagnostics::format() const {

@@ -75,7 +75,7 @@ std::optional<std::string> encode_glb(const std::vector<SceneObject>& objects,
     if (obj.mesh.empty()) continue;
     for (const Vec3& v : obj.mesh.vertices) {
       if (!v.allFinite()) {
-        diags.error(DiagnosticCode::kInvalidValue,
+        diags.error(codes::kInternalError,
                     fmt::format("scene object '{}' has a non-finite vertex", obj.name));
         return std::nullopt;
       }
@@ -165,7 +165,7 @@ std::optional<std::string> encode_glb(const std::vector<SceneObject>& objects,
   tinygltf::TinyGLTF writer;
   std::ostringstream bytes;
   if (!writer.WriteGltfSceneToStream(&model, bytes, /*prettyPrint=*/false, /*writeBinary=*/true)) {
-    diags.error(DiagnosticCode::kInvalidValue, "cannot encode the scene as glTF");
+    diags.error(codes::kInternalError, "cannot encode the scene as glTF");
     return std::nullopt;
   }
   return bytes.str();

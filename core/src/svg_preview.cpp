@@ -53,7 +53,7 @@ bool write_svg_preview(const std::vector<SceneObject>& objects,
     }
   }
   if (tris.empty()) {
-    diags.error(DiagnosticCode::kInvalidValue, fmt::format("{}: nothing to draw", path.string()));
+    diags.error(codes::kInternalError, fmt::format("{}: nothing to draw", path.string()));
     return false;
   }
   // Painter's algorithm: far triangles first.

@@ -486,7 +486,7 @@ TEST_F(MeshIo, AsciiStlErrors) {
     text.replace(text.find("vertex 0 1 0"), 12, "vertex 0 1x 0");
     EXPECT_FALSE(read_mesh(write_text("bad.stl", text), diags).has_value());
     ASSERT_TRUE(diags.has_errors());
-    EXPECT_EQ(diags.items()[0].code, DiagnosticCode::kMalformedInput);
+    EXPECT_EQ(diags.items()[0].code, codes::kMalformedInput);
     EXPECT_EQ(diags.items()[0].where.line, 5);
   }
   {
@@ -499,7 +499,7 @@ TEST_F(MeshIo, AsciiStlErrors) {
     Diagnostics diags;
     EXPECT_FALSE(read_mesh(write_text("junk.stl", "this is not an stl file"), diags).has_value());
     ASSERT_TRUE(diags.has_errors());
-    EXPECT_EQ(diags.items()[0].code, DiagnosticCode::kMalformedInput);
+    EXPECT_EQ(diags.items()[0].code, codes::kMalformedInput);
   }
 }
 
@@ -526,7 +526,7 @@ TEST_F(MeshIo, BinaryStlWithWrongSizeIsAnError) {
   write_text("short.stl", bytes);
   EXPECT_FALSE(read_mesh(p, diags).has_value());
   ASSERT_TRUE(diags.has_errors());
-  EXPECT_EQ(diags.items()[0].code, DiagnosticCode::kMalformedInput);
+  EXPECT_EQ(diags.items()[0].code, codes::kMalformedInput);
 }
 
 TEST_F(MeshIo, ObjFaceFormsNegativeIndicesAndPolygons) {
@@ -585,7 +585,7 @@ TEST_F(MeshIo, MalformedObjReportsTheLine) {
     ASSERT_EQ(diags.size(), 1u) << c.text;
     const Diagnostic& d = diags.items()[0];
     EXPECT_EQ(d.severity, Severity::kError);
-    EXPECT_EQ(d.code, DiagnosticCode::kMalformedInput) << c.text;
+    EXPECT_EQ(d.code, codes::kMalformedInput) << c.text;
     EXPECT_EQ(d.where.file, p.string());
     EXPECT_EQ(d.where.line, c.line) << c.text;
     EXPECT_NE(d.format().find(fmt::format("{}:{}", p.string(), c.line)), std::string::npos)
@@ -613,7 +613,7 @@ TEST_F(MeshIo, MissingFileAndUnsupportedExtension) {
     const fs::path p = file("missing.obj");
     EXPECT_FALSE(read_mesh(p, diags).has_value());
     ASSERT_EQ(diags.size(), 1u);
-    EXPECT_EQ(diags.items()[0].code, DiagnosticCode::kUnreadableFile);
+    EXPECT_EQ(diags.items()[0].code, codes::kUnreadableFile);
     EXPECT_NE(diags.items()[0].format().find(p.string()), std::string::npos);
   }
   {
@@ -622,14 +622,14 @@ TEST_F(MeshIo, MissingFileAndUnsupportedExtension) {
     fs::create_directory(dir_ / "dir.stl");
     EXPECT_FALSE(read_mesh(dir_ / "dir.stl", diags).has_value());
     ASSERT_EQ(diags.size(), 2u);
-    EXPECT_EQ(diags.items()[1].code, DiagnosticCode::kUnreadableFile);
+    EXPECT_EQ(diags.items()[1].code, codes::kUnreadableFile);
   }
   {
     Diagnostics diags;
     const fs::path p = write_text("part.ply", "ply\n");
     EXPECT_FALSE(read_mesh(p, diags).has_value());
     ASSERT_EQ(diags.size(), 1u);
-    EXPECT_EQ(diags.items()[0].code, DiagnosticCode::kUnreadableFile);
+    EXPECT_EQ(diags.items()[0].code, codes::kUnreadableFile);
     const std::string msg = diags.items()[0].format();
     EXPECT_NE(msg.find(p.string()), std::string::npos) << msg;
     EXPECT_NE(msg.find(".obj"), std::string::npos) << msg;

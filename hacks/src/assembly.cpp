@@ -9,6 +9,7 @@
 #include "constraints.h"
 #include "cycle_closure.h"
 #include "distance_bounds.h"
+#include "fabkit/hacks/diagnostic_codes.h"
 
 namespace fabkit::hacks {
 namespace {
@@ -102,14 +103,14 @@ ConnectReport Assembly::add(std::shared_ptr<Part> environment,
                             const SourceLocation& where) {
   ConnectReport report;
   if (!environment) {
-    report.diagnostics.error(DiagnosticCode::kUnknownPart, "add: no environment part given", where);
+    report.diagnostics.error(codes::kUnknownPart, "add: no environment part given", where);
     return report;
   }
   report.description = fmt::format("add {}", environment->type_name);
   for (int i = 0; i < 3; ++i) {
     if (!std::isfinite(frame.pos[i]) || !std::isfinite(frame.rot[i])) {
       report.diagnostics.error(
-          DiagnosticCode::kInvalidValue,
+          codes::kInvalidValue,
           fmt::format(
               "add {}: frame {} has a non-finite value", environment->type_name, frame.to_string()),
           where);
@@ -118,7 +119,7 @@ ConnectReport Assembly::add(std::shared_ptr<Part> environment,
   }
   if (find(environment.get())) {
     report.diagnostics.error(
-        DiagnosticCode::kDuplicateName,
+        codes::kDuplicateName,
         fmt::format("add: {} is already in the assembly", environment->type_name),
         where);
     return report;
@@ -134,7 +135,7 @@ ConnectReport Assembly::add(const PrimitiveRef& primitive,
                             const SourceLocation& where) {
   if (!primitive.valid()) {
     ConnectReport report;
-    report.diagnostics.error(DiagnosticCode::kUnknownPrimitive,
+    report.diagnostics.error(codes::kUnknownPrimitive,
                              primitive.part
                                  ? fmt::format("add: {} has no primitive '{}' (it has {})",
                                                primitive.part->type_name,
@@ -155,7 +156,7 @@ Diagnostics Assembly::end_with(std::shared_ptr<Part> part,
                                const SourceLocation& where) {
   Diagnostics diags;
   if (!part || part->primitives.empty()) {
-    diags.error(DiagnosticCode::kTargetMissing, "end_with: the target has no primitives", where);
+    diags.error(codes::kTargetMissing, "end_with: the target has no primitives", where);
     return diags;
   }
   // The paper's programs give the frame of the part's first primitive (App. B.3, Fig. 8:
@@ -168,7 +169,7 @@ Diagnostics Assembly::end_with(const PrimitiveRef& primitive,
                                const SourceLocation& where) {
   Diagnostics diags;
   if (!primitive.valid()) {
-    diags.error(DiagnosticCode::kUnknownPrimitive,
+    diags.error(codes::kUnknownPrimitive,
                 primitive.part ? fmt::format("end_with: {} has no primitive '{}' (it has {})",
                                              primitive.part->type_name,
                                              primitive.requested,
@@ -180,7 +181,7 @@ Diagnostics Assembly::end_with(const PrimitiveRef& primitive,
   for (int i = 0; i < 3; ++i) {
     if (!std::isfinite(frame.pos[i]) || !std::isfinite(frame.rot[i])) {
       diags.error(
-          DiagnosticCode::kInvalidValue,
+          codes::kInvalidValue,
           fmt::format("end_with: target frame {} has a non-finite value", frame.to_string()),
           where);
       return diags;
@@ -188,7 +189,7 @@ Diagnostics Assembly::end_with(const PrimitiveRef& primitive,
   }
   if (auto id = find(primitive.part.get());
       id && parts_[static_cast<std::size_t>(id->value)].environment) {
-    diags.error(DiagnosticCode::kTargetMissing,
+    diags.error(codes::kTargetMissing,
                 fmt::format("end_with: {} is an environment; the target must be a part the hack "
                             "holds",
                             label(*id)),
@@ -209,10 +210,9 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
 
   for (const PrimitiveRef* r : {&a, &b}) {
     if (!r->part) {
-      diags.error(
-          DiagnosticCode::kUnknownPart, "connect: a primitive without a part was given", where);
+      diags.error(codes::kUnknownPart, "connect: a primitive without a part was given", where);
     } else if (!r->valid()) {
-      diags.error(DiagnosticCode::kUnknownPrimitive,
+      diags.error(codes::kUnknownPrimitive,
                   fmt::format("connect: {} has no primitive '{}' (it has {})",
                               describe_part(*r->part),
                               r->requested,
@@ -223,7 +223,7 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
   if (diags.has_errors()) return report;
 
   if (a.part == b.part) {
-    diags.error(DiagnosticCode::kPairNotAllowed,
+    diags.error(codes::kPairNotAllowed,
                 fmt::format("connect: {}.{} and {}.{} are on the same part; a part cannot be "
                             "connected to itself",
                             a.part->type_name,
@@ -236,7 +236,7 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
   const bool has_environment =
       std::any_of(parts_.begin(), parts_.end(), [](const PartNode& n) { return n.environment; });
   if (!has_environment) {
-    diags.error(DiagnosticCode::kNoEnvironment,
+    diags.error(codes::kNoEnvironment,
                 "connect: the assembly has no environment yet; add() one first",
                 where);
     return report;
@@ -244,7 +244,7 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
   const std::optional<PartId> a_in = find(a.part.get());
   const std::optional<PartId> b_in = find(b.part.get());
   if (!a_in && !b_in) {
-    diags.error(DiagnosticCode::kNotInAssembly,
+    diags.error(codes::kNotInAssembly,
                 fmt::format("connect: neither {} nor {} is in the assembly yet; connect each new "
                             "part to something already in it",
                             describe_part(*a.part),
@@ -272,7 +272,7 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
 
   // (a) the pair is allowed at all.
   if (!pair_allowed(p1.type, p2.type)) {
-    diags.error(DiagnosticCode::kPairNotAllowed,
+    diags.error(codes::kPairNotAllowed,
                 fmt::format("{} ({}) cannot connect to {} ({}): a {} connects only to a {}",
                             l2,
                             to_string(p2.type),
@@ -292,7 +292,7 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
       const Connection& c = trial.connection(existing.front());
       const Connector& other =
           (c.first.part == part && c.first.primitive == prim) ? c.second : c.first;
-      diags.error(DiagnosticCode::kSingleConnection,
+      diags.error(codes::kSingleConnection,
                   fmt::format("{} already holds {}; a {} holds one thing only",
                               lbl,
                               trial.label(other.part, other.primitive),
@@ -305,9 +305,8 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
     const bool same = (c.second.part == second_part && c.second.primitive == second_prim) ||
                       (c.first.part == second_part && c.first.primitive == second_prim);
     if (same) {
-      diags.error(DiagnosticCode::kAlreadyConnected,
-                  fmt::format("{} and {} are already connected", l1, l2),
-                  where);
+      diags.error(
+          codes::kAlreadyConnected, fmt::format("{} and {} are already connected", l1, l2), where);
     }
   }
   if (diags.has_errors()) return report;
@@ -378,7 +377,7 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
 
   const AlignmentOffset align = alignment_offset(k1, k2);
   if (options.alignment == AlignmentChoice::kFlip && !align.flippable()) {
-    diags.warning(DiagnosticCode::kUnknownName,
+    diags.warning(codes::kUnknownName,
                   fmt::format("alignment \"flip\" has no effect on a {}–{} connection ({} and {})",
                               to_string(k1),
                               to_string(k2),
@@ -429,7 +428,7 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
       const detail::PolygonVerdict v = detail::check_cycle_polygon(trial, id);
       if (!v.feasible) {
         const detail::CycleSegment& s = v.segments[static_cast<std::size_t>(v.failing)];
-        diags.error(DiagnosticCode::kCycleTooLong,
+        diags.error(codes::kCycleTooLong,
                     fmt::format("cannot close cycle {}: {:.0f} mm {} exceeds the {:.0f} mm the "
                                 "other parts can span",
                                 report.cycles.back(),
@@ -486,12 +485,12 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
                       r.starts == 1 ? "" : "s",
                       gap.empty() ? overlap : (overlap.empty() ? gap : gap + "; " + overlap));
       if (closes_cycle) {
-        diags.error(DiagnosticCode::kCycleNotClosable,
+        diags.error(codes::kCycleNotClosable,
                     fmt::format("cannot close cycle {}: {}", report.cycles.back(), best),
                     where);
       } else {
         diags.error(
-            DiagnosticCode::kMultiConnection,
+            codes::kMultiConnection,
             fmt::format("{} leaves no room on a shared primitive: {}", report.description, best),
             where);
       }

@@ -6,6 +6,8 @@
 #include <array>
 #include <numbers>
 
+#include "fabkit/hacks/diagnostic_codes.h"
+
 namespace fabkit::hacks {
 namespace {
 
@@ -185,7 +187,7 @@ bool check_compatibility(const PrimitiveInUse& a,
                       const PrimitiveInUse& guest,
                       const std::string& why) {
     const std::vector<double> total = host.primitive->critical_dim();
-    fail(DiagnosticCode::kNoSpaceLeft,
+    fail(codes::kNoSpaceLeft,
          fmt::format("{}: only {} of its {} {} is still free, but {} needs {} ({})",
                      host.label,
                      mm(avail(host)),
@@ -196,12 +198,12 @@ bool check_compatibility(const PrimitiveInUse& a,
                      why));
   };
   auto both_closed = [&](const PrimitiveInUse& x, const PrimitiveInUse& y) {
-    fail(DiagnosticCode::kBothClosed,
+    fail(codes::kBothClosed,
          fmt::format(
              "{} and {} are both closed: neither can be slid onto the other", x.label, y.label));
   };
   auto must_be_open = [&](const PrimitiveInUse& closed, const PrimitiveInUse& ring) {
-    fail(DiagnosticCode::kBothClosed,
+    fail(codes::kBothClosed,
          fmt::format("{} is closed at its ends, so {} ({}) cannot be slid onto it",
                      closed.label,
                      ring.label,
@@ -213,7 +215,7 @@ bool check_compatibility(const PrimitiveInUse& a,
                        const std::string& other_what,
                        double need,
                        const std::string& other) {
-    fail(DiagnosticCode::kDimensionMismatch,
+    fail(codes::kDimensionMismatch,
          fmt::format("{}: {} {} is {} {} {} ({})",
                      who,
                      what,
@@ -369,7 +371,7 @@ bool check_compatibility(const PrimitiveInUse& a,
              avail(in) > o.shape.length;
     };
     if (!fits_inside(a, b) && !fits_inside(b, a)) {
-      fail(DiagnosticCode::kDimensionMismatch,
+      fail(codes::kDimensionMismatch,
            fmt::format("{} and {}: neither tube fits inside the other (outer radii {} and {}, "
                        "inner radii {} and {})",
                        a.label,
@@ -383,7 +385,7 @@ bool check_compatibility(const PrimitiveInUse& a,
     const bool a_smaller = pa.shape.width < pb.shape.width && pa.shape.length < pb.shape.length;
     const bool b_smaller = pb.shape.width < pa.shape.width && pb.shape.length < pa.shape.length;
     if (!a_smaller && !b_smaller) {
-      fail(DiagnosticCode::kDimensionMismatch,
+      fail(codes::kDimensionMismatch,
            fmt::format("{} ({} × {}) and {} ({} × {}): one surface must be smaller than the other "
                        "in both width and length to rest on it",
                        a.label,
@@ -396,7 +398,7 @@ bool check_compatibility(const PrimitiveInUse& a,
       const PrimitiveInUse& small = a_smaller ? a : b;
       const PrimitiveInUse& large = a_smaller ? b : a;
       if (!(avail(small, 0) < avail(large, 0) && avail(small, 1) < avail(large, 1))) {
-        fail(DiagnosticCode::kNoSpaceLeft,
+        fail(codes::kNoSpaceLeft,
              fmt::format("{}: only {} × {} of it is still free, not enough for {} ({} × {})",
                          large.label,
                          mm(avail(large, 0)),
@@ -412,7 +414,7 @@ bool check_compatibility(const PrimitiveInUse& a,
     const Primitive& s = *surf->primitive;
     const double need = std::numbers::pi * r;
     if (!(s.shape.width > need && s.shape.length > need)) {
-      fail(DiagnosticCode::kDimensionMismatch,
+      fail(codes::kDimensionMismatch,
            fmt::format("{}: surface {} × {} is too small for {} (needs more than {} each way)",
                        surf->label,
                        mm(s.shape.width),
@@ -420,7 +422,7 @@ bool check_compatibility(const PrimitiveInUse& a,
                        hemi->label,
                        mm(need)));
     } else if (!(avail(*surf, 0) > 2 * r && avail(*surf, 1) > r)) {
-      fail(DiagnosticCode::kNoSpaceLeft,
+      fail(codes::kNoSpaceLeft,
            fmt::format("{}: only {} × {} of it is still free, not enough for {} (radius {})",
                        surf->label,
                        mm(avail(*surf, 0)),

@@ -6,6 +6,8 @@
 #include <cctype>
 #include <cmath>
 
+#include "fabkit/hacks/diagnostic_codes.h"
+
 namespace fabkit::hacks {
 namespace {
 
@@ -356,40 +358,45 @@ std::string Primitive::describe() const {
   return fmt::format("{} ({}{})", to_string(type), fields, variant);
 }
 
+std::optional<std::string> shape_field_problem(PrimitiveType type,
+                                               std::string_view field,
+                                               double v,
+                                               std::string_view who) {
+  if (!std::isfinite(v)) {
+    return fmt::format("{}: {} {} is not a finite number", who, to_string(type), field);
+  }
+  if (field == "arc_angle") {
+    if (v <= 0 || v > 360) {
+      return fmt::format("{}: hook arc angle {:g}° must be in (0, 360]", who, v);
+    }
+    return std::nullopt;
+  }
+  if (v <= 0) {
+    return fmt::format("{}: {} {} {:g} mm must be positive", who, to_string(type), field, v);
+  }
+  if (v > kMaxSizeMm) {
+    return fmt::format("{}: {} {} {:g} mm is absurd (more than {:g} m); sizes are in mm",
+                       who,
+                       to_string(type),
+                       field,
+                       v,
+                       kMaxSizeMm / 1000);
+  }
+  return std::nullopt;
+}
+
 void Primitive::validate(std::string_view who,
                          Diagnostics& diags,
                          const SourceLocation& where) const {
   for (std::string_view f : shape_field_names(type)) {
-    const double v = shape_field_value(shape, f);
-    if (!std::isfinite(v)) {
-      diags.error(DiagnosticCode::kInvalidValue,
-                  fmt::format("{}: {} {} is not a finite number", who, to_string(type), f),
-                  where);
-    } else if (f == "arc_angle") {
-      if (v <= 0 || v > 360) {
-        diags.error(DiagnosticCode::kInvalidValue,
-                    fmt::format("{}: hook arc angle {:g}° must be in (0, 360]", who, v),
-                    where);
-      }
-    } else if (v <= 0) {
-      diags.error(DiagnosticCode::kInvalidValue,
-                  fmt::format("{}: {} {} {:g} mm must be positive", who, to_string(type), f, v),
-                  where);
-    } else if (v > kMaxSizeMm) {
-      diags.error(DiagnosticCode::kInvalidValue,
-                  fmt::format("{}: {} {} {:g} mm is absurd (more than {:g} m); sizes are in mm",
-                              who,
-                              to_string(type),
-                              f,
-                              v,
-                              kMaxSizeMm / 1000),
-                  where);
+    if (auto problem = shape_field_problem(type, f, shape_field_value(shape, f), who)) {
+      diags.error(codes::kInvalidValue, std::move(*problem), where);
     }
   }
   if ((type == PrimitiveType::kHook || type == PrimitiveType::kRing) &&
       shape.thickness >= shape.arc_radius && shape.thickness > 0) {
     diags.error(
-        DiagnosticCode::kInvalidValue,
+        codes::kInvalidValue,
         fmt::format("{}: {} wire radius {:g} mm must be smaller than its arc radius {:g} mm",
                     who,
                     to_string(type),
@@ -399,9 +406,8 @@ void Primitive::validate(std::string_view who,
   }
   for (int i = 0; i < 3; ++i) {
     if (!std::isfinite(frame.pos[i]) || !std::isfinite(frame.rot[i])) {
-      diags.error(DiagnosticCode::kInvalidValue,
-                  fmt::format("{}: frame has a non-finite value", who),
-                  where);
+      diags.error(
+          codes::kInvalidValue, fmt::format("{}: frame has a non-finite value", who), where);
       break;
     }
   }
@@ -409,7 +415,7 @@ void Primitive::validate(std::string_view who,
     if (range &&
         (!std::isfinite((*range)[0]) || !std::isfinite((*range)[1]) || (*range)[0] > (*range)[1])) {
       diags.error(
-          DiagnosticCode::kInvalidValue,
+          codes::kInvalidValue,
           fmt::format(
               "{}: angle range [{:g}, {:g}] is not an interval", who, (*range)[0], (*range)[1]),
           where);

@@ -16,6 +16,7 @@
 
 #include "constraints.h"
 #include "cycle_closure.h"
+#include "fabkit/hacks/diagnostic_codes.h"
 #include "random.h"
 #include "solve_internal.h"
 
@@ -1197,12 +1198,12 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   if (assembly.part_count() == 0) {
     result.termination = Termination::kInfeasible;
     result.message = "the assembly is empty";
-    result.diagnostics.error(DiagnosticCode::kNoEnvironment, "solve: the assembly is empty");
+    result.diagnostics.error(codes::kNoEnvironment, "solve: the assembly is empty");
     return result;
   }
   if (!problem.target) {
     result.termination = Termination::kNoTarget;
-    result.diagnostics.warning(DiagnosticCode::kTargetMissing,
+    result.diagnostics.warning(codes::kTargetMissing,
                                assembly.target() ? "the target is not connected to the hack; "
                                                    "step 1 is skipped"
                                                  : "the design has no target (end_with); step 1 "
@@ -1212,7 +1213,7 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   if (max_gap(assembly, assembly.values()) > 1e-3) {
     result.termination = Termination::kInfeasible;
     result.message = "the cycles of the assembly are not closed";
-    result.diagnostics.error(DiagnosticCode::kCycleNotClosable,
+    result.diagnostics.error(codes::kCycleNotClosable,
                              "solve: the assembly's cycles are not closed; verify its connects");
     return result;
   }
@@ -1231,7 +1232,7 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   if (!step1.closed) {
     result.termination = Termination::kInfeasible;
     result.message = "step 1 found no configuration that keeps every cycle closed";
-    result.diagnostics.error(DiagnosticCode::kCycleNotClosable, result.message);
+    result.diagnostics.error(codes::kCycleNotClosable, result.message);
     return result;
   }
   result.feasible = true;
@@ -1249,7 +1250,7 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
       if (assembly.parameters()[i].spec.tag == ParamTag::kUnbounded) x[i] = wrap_360(x[i]);
     }
     if (!step2.closed || max_gap(assembly, x) > options.closure_tolerance_mm) {
-      result.diagnostics.warning(DiagnosticCode::kCycleNotClosable,
+      result.diagnostics.warning(codes::kCycleNotClosable,
                                  "relaxation left a cycle open by more than the tolerance");
     }
     converged = converged && step2.converged;
@@ -1293,7 +1294,7 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   }
   if (options.deadline && Clock::now() > *options.deadline) {
     result.termination = Termination::kTimeout;
-    result.diagnostics.error(DiagnosticCode::kInvalidValue,
+    result.diagnostics.error(codes::kTimeLimit,
                              "the solve stopped at its time limit; the result is incomplete");
   }
   if (result.stable) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fabkit/hacks/diagnostic_codes.h"
 #include "test_support.h"
 
 namespace fabkit::hacks {
@@ -105,15 +106,15 @@ TEST(Assembly, ConnectNeedsAnEnvironmentAndAKnownPart) {
   auto dh2 = make_part("DoubleHook");
   Assembly a;
   EXPECT_TRUE(testing::has_diagnostic(a.connect({dh1, "hook1"}, {dh2, "hook1"}).diagnostics,
-                                      DiagnosticCode::kNoEnvironment,
+                                      codes::kNoEnvironment,
                                       "add() one first"));
   auto env = rod_environment(5, 500);
   a.add(env, Frame());
   EXPECT_TRUE(testing::has_diagnostic(a.connect({dh1, "hook1"}, {dh2, "hook1"}).diagnostics,
-                                      DiagnosticCode::kNotInAssembly,
+                                      codes::kNotInAssembly,
                                       "neither DoubleHook nor DoubleHook is in the assembly"));
   EXPECT_TRUE(testing::has_diagnostic(a.connect({dh1, "hook7"}, {env, "rod"}).diagnostics,
-                                      DiagnosticCode::kUnknownPrimitive,
+                                      codes::kUnknownPrimitive,
                                       "DoubleHook has no primitive 'hook7' (it has hook1, hook2)"));
   EXPECT_EQ(a.part_count(), 1);
 }
@@ -174,7 +175,7 @@ TEST(Assembly, EndWithTargetsThePartsFirstPrimitive) {
   EXPECT_TRUE(a.end_with(PrimitiveRef(bottle, "surface"), goal).empty());
   EXPECT_EQ(a.target()->primitive, 1);
   EXPECT_TRUE(testing::has_diagnostic(
-      a.end_with(env, Frame()), DiagnosticCode::kTargetMissing, "is an environment"));
+      a.end_with(env, Frame()), codes::kTargetMissing, "is an environment"));
 }
 
 TEST(Assembly, SingleConnectionPrimitivesHoldOneThing) {
@@ -193,9 +194,8 @@ TEST(Assembly, SingleConnectionPrimitivesHoldOneThing) {
   ASSERT_TRUE(a.connect({brush1, "rod"}, {clip, "clip"}).accepted);
   const ConnectReport r = a.connect({brush2, "rod"}, {clip, "clip"});
   EXPECT_FALSE(r.accepted);
-  EXPECT_TRUE(testing::has_diagnostic(r.diagnostics,
-                                      DiagnosticCode::kSingleConnection,
-                                      "PlasticClip.clip already holds Toothbrush#1.rod"));
+  EXPECT_TRUE(testing::has_diagnostic(
+      r.diagnostics, codes::kSingleConnection, "PlasticClip.clip already holds Toothbrush#1.rod"));
 }
 
 }  // namespace

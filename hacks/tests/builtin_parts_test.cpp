@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "fabkit/hacks/diagnostic_codes.h"
 #include "fabkit/hacks/parts_library.h"
 
 namespace fabkit::hacks {
@@ -559,7 +560,7 @@ TEST(BuiltinParts, MakeRejectsBadInput) {
     Diagnostics d;
     EXPECT_EQ(lib.make("DoubleHok", {}, d), nullptr);
     ASSERT_EQ(d.size(), 1u);
-    EXPECT_EQ(d.items()[0].code, DiagnosticCode::kUnknownPart);
+    EXPECT_EQ(d.items()[0].code, codes::kUnknownPart);
     EXPECT_NE(d.items()[0].message.find("did you mean DoubleHook"), std::string::npos)
         << d.format();
   }
@@ -567,21 +568,21 @@ TEST(BuiltinParts, MakeRejectsBadInput) {
     Diagnostics d;
     EXPECT_EQ(lib.make("Xylophone", {}, d), nullptr);
     ASSERT_EQ(d.size(), 1u);
-    EXPECT_EQ(d.items()[0].code, DiagnosticCode::kUnknownPart);
+    EXPECT_EQ(d.items()[0].code, codes::kUnknownPart);
     EXPECT_EQ(d.items()[0].message.find("did you mean"), std::string::npos);
   }
   {
     Diagnostics d;
     EXPECT_EQ(lib.make("ParamTurnbuckle", {{"length", 3}}, d), nullptr);
     ASSERT_EQ(d.size(), 1u);
-    EXPECT_EQ(d.items()[0].code, DiagnosticCode::kUnknownName);
+    EXPECT_EQ(d.items()[0].code, codes::kUnknownName);
     EXPECT_NE(d.items()[0].message.find("extended_length"), std::string::npos);
   }
   {
     Diagnostics d;
     EXPECT_EQ(lib.make("DoubleHook", {{"size", 3}}, d), nullptr);
     ASSERT_EQ(d.size(), 1u);
-    EXPECT_EQ(d.items()[0].code, DiagnosticCode::kUnknownName);
+    EXPECT_EQ(d.items()[0].code, codes::kUnknownName);
   }
   {
     Diagnostics d;
@@ -592,7 +593,7 @@ TEST(BuiltinParts, MakeRejectsBadInput) {
                        where),
               nullptr);
     ASSERT_EQ(d.size(), 1u);
-    EXPECT_EQ(d.items()[0].code, DiagnosticCode::kInvalidValue);
+    EXPECT_EQ(d.items()[0].code, codes::kInvalidValue);
     EXPECT_NE(d.items()[0].message.find("nan"), std::string::npos);
     EXPECT_EQ(d.items()[0].where.line, 7);
   }
@@ -600,7 +601,7 @@ TEST(BuiltinParts, MakeRejectsBadInput) {
     Diagnostics d;
     EXPECT_EQ(lib.make("ParamTurnbuckle", {{"extended_length", bad}}, d), nullptr);
     ASSERT_EQ(d.size(), 1u);
-    EXPECT_EQ(d.items()[0].code, DiagnosticCode::kInvalidValue);
+    EXPECT_EQ(d.items()[0].code, codes::kInvalidValue);
     const std::string& msg = d.items()[0].message;
     EXPECT_NE(msg.find(fmt_value(bad)), std::string::npos) << msg;
     EXPECT_NE(msg.find("[0, 100]"), std::string::npos) << msg;
@@ -611,7 +612,7 @@ TEST(BuiltinParts, MakeRejectsBadInput) {
     Diagnostics d;
     EXPECT_EQ(lib.make("ParamHanger", {{"length", 100}, {"bend_d", 100}}, d), nullptr);
     EXPECT_TRUE(d.has_errors());
-    EXPECT_EQ(d.items()[0].code, DiagnosticCode::kInvalidValue);
+    EXPECT_EQ(d.items()[0].code, codes::kInvalidValue);
   }
 }
 

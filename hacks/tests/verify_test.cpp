@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "../src/constraints.h"
+#include "fabkit/hacks/diagnostic_codes.h"
 #include "test_support.h"
 
 namespace fabkit::hacks {
@@ -25,7 +26,7 @@ connections:
   EXPECT_TRUE(d.readable);
   EXPECT_FALSE(d.feasible());
   EXPECT_TRUE(has_diagnostic(d.diagnostics,
-                             DiagnosticCode::kPairNotAllowed,
+                             codes::kPairNotAllowed,
                              "bottle.surface (surface) cannot connect to door.rod (rod): a surface "
                              "connects only to a surface or hemisphere",
                              6));
@@ -45,7 +46,7 @@ connections:
   - connect: [mug.hook, basket.rod2]
 )");
   EXPECT_TRUE(has_diagnostic(
-      d.diagnostics, DiagnosticCode::kBothClosed, "basket.rod2 and mug.hook are both closed", 10));
+      d.diagnostics, codes::kBothClosed, "basket.rod2 and mug.hook are both closed", 10));
   // The earlier connects were fine.
   EXPECT_TRUE(d.steps[1].accepted);
   EXPECT_TRUE(d.steps[2].accepted);
@@ -66,7 +67,7 @@ TEST(Verify, HookOpeningSmallerThanRodRadius) {
   const ConnectReport r = a.connect({dh2, "hook1"}, {rods, "rod"});
   EXPECT_FALSE(r.accepted);
   EXPECT_TRUE(has_diagnostic(r.diagnostics,
-                             DiagnosticCode::kDimensionMismatch,
+                             codes::kDimensionMismatch,
                              "DoubleHook#2.hook1: hook opening 11.6 mm is smaller than rod radius "
                              "12.7 mm (LongTensionRod.rod)"));
 }
@@ -85,7 +86,7 @@ connections:
   EXPECT_TRUE(d.steps[1].accepted);
   EXPECT_FALSE(d.steps[2].accepted);
   EXPECT_TRUE(has_diagnostic(d.diagnostics,
-                             DiagnosticCode::kNoSpaceLeft,
+                             codes::kNoSpaceLeft,
                              "pin.rod: only 3.0 mm of its 7.0 mm length is still free, but "
                              "s2.hook1 needs 4.0 mm",
                              8));
@@ -133,15 +134,14 @@ connections:
   ASSERT_TRUE(d.readable) << d.diagnostics.format();
   EXPECT_FALSE(d.feasible());
   EXPECT_TRUE(has_diagnostic(d.diagnostics,
-                             DiagnosticCode::kCycleTooLong,
+                             codes::kCycleTooLong,
                              "cannot close cycle rods.rod2 – eye2 – basket – eye1 – rods.rod1: ",
                              15));
-  EXPECT_TRUE(has_diagnostic(d.diagnostics,
-                             DiagnosticCode::kCycleTooLong,
-                             "mm between rods.rod2 and rods.rod1 exceeds the"));
+  EXPECT_TRUE(has_diagnostic(
+      d.diagnostics, codes::kCycleTooLong, "mm between rods.rod2 and rods.rod1 exceeds the"));
   // The rods' inner ends are 830 mm apart; the eye hooks and the handle span 307 mm at most.
   EXPECT_TRUE(has_diagnostic(d.diagnostics,
-                             DiagnosticCode::kCycleTooLong,
+                             codes::kCycleTooLong,
                              "830 mm between rods.rod2 and rods.rod1 exceeds the 307 mm"));
   // Rejected before any closure search.
   EXPECT_EQ(d.steps.back().report.starts_used, 0);
@@ -166,7 +166,7 @@ connections:
   EXPECT_FALSE(d.feasible());
   EXPECT_TRUE(
       has_diagnostic(d.diagnostics,
-                     DiagnosticCode::kCycleNotClosable,
+                     codes::kCycleNotClosable,
                      "cannot close cycle wall.hook1 – s – wall.hook2: the best of 16 starts "
                      "leaves a gap of",
                      10))

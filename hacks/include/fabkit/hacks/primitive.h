@@ -92,6 +92,13 @@ std::vector<std::string_view> shape_field_names(PrimitiveType t);
 double* shape_field(PrimitiveShape& s, std::string_view name);
 double shape_field_value(const PrimitiveShape& s, std::string_view name);
 
+/// What is wrong with one shape field's value (not finite, not positive, absurd, an arc angle
+/// outside (0, 360]), as a message prefixed by `who`; nullopt if nothing.
+std::optional<std::string> shape_field_problem(PrimitiveType type,
+                                               std::string_view field,
+                                               double value,
+                                               std::string_view who);
+
 /// A connector primitive on a part.
 struct Primitive {
   std::string name;  ///< unique within its part, e.g. "hook1"
