@@ -114,39 +114,6 @@ class VertexWelder {
   std::map<std::array<double, 3>, int> map_;
 };
 
-std::optional<std::string> read_file_bytes(const fs::path& path, Diagnostics& diags) {
-  const std::string name = path.string();
-  std::error_code ec;
-  const auto status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) {
-    diags.error(DiagnosticCode::kUnreadableFile,
-                fmt::format("cannot read mesh '{}': no such file", name),
-                SourceLocation{name, 0, 0});
-    return std::nullopt;
-  }
-  if (fs::is_directory(status)) {
-    diags.error(DiagnosticCode::kUnreadableFile,
-                fmt::format("cannot read mesh '{}': is a directory", name),
-                SourceLocation{name, 0, 0});
-    return std::nullopt;
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    diags.error(DiagnosticCode::kUnreadableFile,
-                fmt::format("cannot read mesh '{}': cannot open the file", name),
-                SourceLocation{name, 0, 0});
-    return std::nullopt;
-  }
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) {
-    diags.error(DiagnosticCode::kUnreadableFile,
-                fmt::format("cannot read mesh '{}': read error", name),
-                SourceLocation{name, 0, 0});
-    return std::nullopt;
-  }
-  return bytes;
-}
-
 // ---------------------------------------------------------------------------------------------
 // OBJ
 
@@ -179,7 +146,7 @@ std::optional<TriangleMesh> parse_obj(std::string_view text,
     if (keyword == "v") {
       // x y z, optionally followed by w or r g b, which are ignored.
       if (tokens.size() < 4) {
-        return fail(DiagnosticCode::kMalformedInput,
+        return fail(codes::kMalformedInput,
                     "vertex record needs three coordinates",
                     number,
                     tokens[0].column);
@@ -189,13 +156,13 @@ std::optional<TriangleMesh> parse_obj(std::string_view text,
         const Token& t = tokens[k + 1];
         const auto value = parse_double(t.text);
         if (!value) {
-          return fail(DiagnosticCode::kMalformedInput,
+          return fail(codes::kMalformedInput,
                       fmt::format("malformed vertex coordinate '{}'", t.text),
                       number,
                       t.column);
         }
         if (!std::isfinite(*value)) {
-          return fail(DiagnosticCode::kInvalidValue,
+          return fail(codes::kInvalidValue,
                       fmt::format("non-finite vertex coordinate '{}'", t.text),
                       number,
                       t.column);
@@ -204,7 +171,7 @@ std::optional<TriangleMesh> parse_obj(std::string_view text,
       }
       for (std::size_t k = 4; k < tokens.size(); ++k) {
         if (!parse_double(tokens[k].text)) {
-          return fail(DiagnosticCode::kMalformedInput,
+          return fail(codes::kMalformedInput,
                       fmt::format("malformed number '{}' in vertex record", tokens[k].text),
                       number,
                       tokens[k].column);
@@ -216,7 +183,7 @@ std::optional<TriangleMesh> parse_obj(std::string_view text,
     if (keyword != "f") return true;  // vt, vn, o, g, s, usemtl, mtllib, l, p, ... are ignored
 
     if (tokens.size() < 4) {
-      return fail(DiagnosticCode::kMalformedInput,
+      return fail(codes::kMalformedInput,
                   "face record needs at least three vertices",
                   number,
                   tokens[0].column);
@@ -246,7 +213,7 @@ std::optional<TriangleMesh> parse_obj(std::string_view text,
       if (count == 3 && parts[1].empty() && parts[2].empty()) v = std::nullopt;  // "1//"
       if (count == 2 && parts[1].empty()) v = std::nullopt;                      // "1/"
       if (!v) {
-        return fail(DiagnosticCode::kMalformedInput,
+        return fail(codes::kMalformedInput,
                     fmt::format("malformed face vertex '{}'", t.text),
                     number,
                     t.column);
@@ -257,19 +224,19 @@ std::optional<TriangleMesh> parse_obj(std::string_view text,
         index = defined + 1 + index;  // -1 is the most recently defined vertex
         if (index < 1) {
           return fail(
-              DiagnosticCode::kMalformedInput,
+              codes::kMalformedInput,
               fmt::format(
                   "face vertex index {} is out of range ({} vertices defined)", *v, defined),
               number,
               t.column);
         }
       } else if (index == 0) {
-        return fail(DiagnosticCode::kMalformedInput,
+        return fail(codes::kMalformedInput,
                     "face vertex index 0 is out of range (OBJ indices start at 1)",
                     number,
                     t.column);
       } else if (index > std::numeric_limits<int>::max()) {
-        return fail(DiagnosticCode::kMalformedInput,
+        return fail(codes::kMalformedInput,
                     fmt::format("face vertex index {} is out of range", *v),
                     number,
                     t.column);
@@ -293,7 +260,7 @@ std::optional<TriangleMesh> parse_obj(std::string_view text,
   const auto total = static_cast<long long>(mesh.vertices.size());
   for (const auto& p : pending) {
     if (p.index > total) {
-      fail(DiagnosticCode::kMalformedInput,
+      fail(codes::kMalformedInput,
            fmt::format(
                "face vertex index {} is out of range ({} vertices in the file)", p.index, total),
            p.line,
@@ -302,7 +269,7 @@ std::optional<TriangleMesh> parse_obj(std::string_view text,
     }
   }
   if (mesh.faces.empty()) {
-    diags.error(DiagnosticCode::kMalformedInput,
+    diags.error(codes::kMalformedInput,
                 fmt::format("{}: the mesh has no faces", name),
                 SourceLocation{name, 0, 0});
     return std::nullopt;
@@ -379,7 +346,7 @@ std::optional<TriangleMesh> parse_stl_binary(std::string_view bytes,
         p[k] = static_cast<double>(read_f32_le(rec + 12 + 12 * c + 4 * k));
       }
       if (!p.allFinite()) {
-        diags.error(DiagnosticCode::kInvalidValue,
+        diags.error(codes::kInvalidValue,
                     fmt::format("{}: triangle {} has a non-finite vertex coordinate", name, t + 1),
                     SourceLocation{name, 0, 0});
         return std::nullopt;
@@ -411,7 +378,7 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
                        int number,
                        std::string_view what) -> std::optional<Vec3> {
     if (tokens.size() != first + 3) {
-      fail(DiagnosticCode::kMalformedInput,
+      fail(codes::kMalformedInput,
            fmt::format("'{}' needs exactly three numbers", what),
            number,
            tokens[0].column);
@@ -422,17 +389,12 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
       const Token& t = tokens[first + k];
       const auto value = parse_double(t.text);
       if (!value) {
-        fail(DiagnosticCode::kMalformedInput,
-             fmt::format("malformed number '{}'", t.text),
-             number,
-             t.column);
+        fail(
+            codes::kMalformedInput, fmt::format("malformed number '{}'", t.text), number, t.column);
         return std::nullopt;
       }
       if (!std::isfinite(*value)) {
-        fail(DiagnosticCode::kInvalidValue,
-             fmt::format("non-finite number '{}'", t.text),
-             number,
-             t.column);
+        fail(codes::kInvalidValue, fmt::format("non-finite number '{}'", t.text), number, t.column);
         return std::nullopt;
       }
       p[k] = *value;
@@ -446,7 +408,7 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
     if (tokens.empty()) return true;
     const std::string keyword = lower(std::string(tokens[0].text));
     auto unexpected = [&] {
-      return fail(DiagnosticCode::kMalformedInput,
+      return fail(codes::kMalformedInput,
                   fmt::format("unexpected '{}'", tokens[0].text),
                   number,
                   tokens[0].column);
@@ -463,10 +425,8 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
         }
         if (keyword != "facet") return unexpected();
         if (tokens.size() < 2 || lower(std::string(tokens[1].text)) != "normal") {
-          return fail(DiagnosticCode::kMalformedInput,
-                      "expected 'facet normal nx ny nz'",
-                      number,
-                      tokens[0].column);
+          return fail(
+              codes::kMalformedInput, "expected 'facet normal nx ny nz'", number, tokens[0].column);
         }
         if (!parse_vec(tokens, 2, number, "facet normal")) return false;
         state = State::kInFacet;
@@ -474,8 +434,7 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
       case State::kInFacet:
         if (keyword != "outer" || tokens.size() != 2 ||
             lower(std::string(tokens[1].text)) != "loop") {
-          return fail(
-              DiagnosticCode::kMalformedInput, "expected 'outer loop'", number, tokens[0].column);
+          return fail(codes::kMalformedInput, "expected 'outer loop'", number, tokens[0].column);
         }
         loop.clear();
         state = State::kInLoop;
@@ -489,7 +448,7 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
         }
         if (keyword != "endloop") return unexpected();
         if (loop.size() < 3) {
-          return fail(DiagnosticCode::kMalformedInput,
+          return fail(codes::kMalformedInput,
                       "a facet needs at least three vertices",
                       number,
                       tokens[0].column);
@@ -508,7 +467,7 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
   });
   if (!ok) return std::nullopt;
   if (state != State::kOutside && state != State::kInSolid) {
-    fail(DiagnosticCode::kMalformedInput, "unexpected end of file inside a facet", last_line, 0);
+    fail(codes::kMalformedInput, "unexpected end of file inside a facet", last_line, 0);
     return std::nullopt;
   }
   // A missing final "endsolid" is tolerated: many writers truncate it.
@@ -529,7 +488,7 @@ std::optional<TriangleMesh> parse_stl(std::string_view bytes,
     case StlKind::kUnknown:
       if (bytes.size() >= kStlPreambleSize) {
         const std::uint64_t n = read_u32_le(bytes.data() + kStlHeaderSize);
-        diags.error(DiagnosticCode::kMalformedInput,
+        diags.error(codes::kMalformedInput,
                     fmt::format("{}: not an STL file: binary STL with {} triangles should be {} "
                                 "bytes, the file has {}, and it does not start with 'solid'",
                                 name,
@@ -538,7 +497,7 @@ std::optional<TriangleMesh> parse_stl(std::string_view bytes,
                                 bytes.size()),
                     SourceLocation{name, 0, 0});
       } else {
-        diags.error(DiagnosticCode::kMalformedInput,
+        diags.error(codes::kMalformedInput,
                     fmt::format("{}: not an STL file: too short for binary STL ({} bytes) and "
                                 "does not start with 'solid'",
                                 name,
@@ -549,7 +508,7 @@ std::optional<TriangleMesh> parse_stl(std::string_view bytes,
   }
   if (!mesh) return std::nullopt;
   if (mesh->faces.empty()) {
-    diags.error(DiagnosticCode::kMalformedInput,
+    diags.error(codes::kMalformedInput,
                 fmt::format("{}: the mesh has no faces", name),
                 SourceLocation{name, 0, 0});
     return std::nullopt;
@@ -563,14 +522,14 @@ std::optional<TriangleMesh> parse_stl(std::string_view bytes,
 /// Checks that `mesh` can be written: it has faces, valid indices and finite coordinates.
 bool check_writable(const TriangleMesh& mesh, const std::string& name, Diagnostics& diags) {
   if (mesh.faces.empty()) {
-    diags.error(DiagnosticCode::kInvalidValue,
+    diags.error(codes::kInvalidValue,
                 fmt::format("cannot write '{}': the mesh has no faces", name),
                 SourceLocation{name, 0, 0});
     return false;
   }
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     if (!mesh.vertices[i].allFinite()) {
-      diags.error(DiagnosticCode::kInvalidValue,
+      diags.error(codes::kInvalidValue,
                   fmt::format("cannot write '{}': vertex {} has a non-finite coordinate", name, i),
                   SourceLocation{name, 0, 0});
       return false;
@@ -582,7 +541,7 @@ bool check_writable(const TriangleMesh& mesh, const std::string& name, Diagnosti
       const long long idx = mesh.faces[i][c];
       if (idx < 0 || idx >= nv) {
         diags.error(
-            DiagnosticCode::kInvalidValue,
+            codes::kInvalidValue,
             fmt::format("cannot write '{}': face {} refers to vertex {} of {}", name, i, idx, nv),
             SourceLocation{name, 0, 0});
         return false;
@@ -604,7 +563,7 @@ std::optional<TriangleMesh> read_mesh(const std::filesystem::path& path, Diagnos
   const std::string name = path.string();
   const std::string ext = lower(path.extension().string());
   if (ext != ".obj" && ext != ".stl") {
-    diags.error(DiagnosticCode::kUnreadableFile,
+    diags.error(codes::kUnreadableFile,
                 fmt::format("cannot read mesh '{}': unsupported extension '{}' (supported: {})",
                             name,
                             path.extension().string(),
@@ -612,7 +571,7 @@ std::optional<TriangleMesh> read_mesh(const std::filesystem::path& path, Diagnos
                 SourceLocation{name, 0, 0});
     return std::nullopt;
   }
-  const auto bytes = read_file_bytes(path, diags);
+  const auto bytes = read_input_file(path, "mesh", diags);
   if (!bytes) return std::nullopt;
   if (ext == ".obj") return parse_obj(*bytes, name, diags);
   return parse_stl(*bytes, name, diags);
@@ -642,7 +601,7 @@ bool write_stl(const TriangleMesh& mesh, const std::filesystem::path& path, Diag
   const std::string name = path.string();
   if (!check_writable(mesh, name, diags)) return false;
   if (mesh.faces.size() > std::numeric_limits<std::uint32_t>::max()) {
-    diags.error(DiagnosticCode::kInvalidValue,
+    diags.error(codes::kInvalidValue,
                 fmt::format("cannot write '{}': too many triangles for binary STL", name),
                 SourceLocation{name, 0, 0});
     return false;

@@ -42,6 +42,10 @@ std::string closest_name(std::string_view name, const std::vector<std::string>& 
   std::string best;
   std::size_t best_d = limit + 1;
   for (const std::string& c : candidates) {
+    // More than `limit` characters longer or shorter cannot be within `limit` edits; skipping
+    // them also keeps a huge typed name from costing len × len work.
+    const std::size_t gap = l.size() > c.size() ? l.size() - c.size() : c.size() - l.size();
+    if (gap > limit) continue;
     const std::size_t dist = edit_distance(l, lower(c));
     if (dist < best_d && dist < std::max<std::size_t>(l.size(), 1)) {
       best = c;
