@@ -4,22 +4,18 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 
-#include "fabkit/core/names.h"
+#include "fabkit/core/file_io.h"
+#include "fabkit/core/text.h"
+#include "fabkit/core/yaml_reader.h"
+#include "fabkit/hacks/diagnostic_codes.h"
+#include "fabkit/hacks/primitive_spec.h"
 
 namespace fabkit::hacks {
 namespace {
 
-constexpr double kMaxCoordinateMm = 1e5;  // 100 m: anything bigger is a unit mistake
 constexpr std::string_view kFormatTag = "hacks/1";
-
-std::string did_you_mean(std::string_view name, const std::vector<std::string>& options) {
-  const std::string best = closest_name(name, options);
-  return best.empty() ? "" : fmt::format("; did you mean '{}'?", best);
-}
 
 // Reads one file's YAML into the design, collecting diagnostics with file:line.
 class Reader {
@@ -28,10 +24,11 @@ class Reader {
          const PartsLibrary& library,
          const DesignOptions& options,
          std::filesystem::path base_dir)
-      : file_(std::move(file)),
+      : file_(file),
         library_(library),
         options_(options),
-        base_dir_(std::move(base_dir)) {}
+        base_dir_(std::move(base_dir)),
+        in_(std::move(file), diags_) {}
 
   void run(std::string_view text, Design& design) {
     build(text, design);
@@ -40,21 +37,10 @@ class Reader {
 
  private:
   void build(std::string_view text, Design& design) {
-    YAML::Node root;
-    try {
-      root = YAML::Load(std::string(text));
-    } catch (const YAML::ParserException& e) {
-      error(DiagnosticCode::kMalformedInput,
-            fmt::format("YAML syntax error: {}", e.msg),
-            loc(e.mark));
-      return;
-    }
-    if (!root.IsMap()) {
-      error(DiagnosticCode::kMalformedInput,
-            "a design file must be a YAML mapping with environment, parts, connections and target",
-            root.IsDefined() ? at(root) : SourceLocation{file_, 1, 1});
-      return;
-    }
+    const auto parsed = in_.parse_mapping(
+        text, "environment, parts, connections and target (docs/design-format.md)");
+    if (!parsed) return;
+    const YAML::Node root = *parsed;
     check_keys(root,
                {"fabkit",
                 "name",
@@ -67,8 +53,9 @@ class Reader {
     if (auto tag = root["fabkit"]) {
       const std::string t = scalar(tag, "fabkit");
       if (!t.empty() && t != kFormatTag) {
-        error(DiagnosticCode::kMalformedInput,
-              fmt::format("unsupported format '{}'; this version reads '{}'", t, kFormatTag),
+        error(codes::kMalformedInput,
+              fmt::format(
+                  "unsupported format '{}'; this version reads '{}'", excerpt(t, 40), kFormatTag),
               at(tag));
       }
     }
@@ -78,16 +65,23 @@ class Reader {
     PartsLibrary local = library_;
     const PartsLibrary* lib = &library_;
     if (auto files = root["part_files"]) {
-      if (!files.IsSequence()) {
-        error(
-            DiagnosticCode::kMalformedInput, "part_files must be a list of file names", at(files));
+      if (options_.part_files == PartFilePolicy::kRefuse) {
+        error(codes::kInvalidValue,
+              "part_files are not accepted here: a design sent to the server may not name files "
+              "(load part files when starting it, or use the command line)",
+              at(files));
+      } else if (!files.IsSequence()) {
+        error(codes::kMalformedInput, "part_files must be a list of file names", at(files));
       } else {
         for (const auto& f : files) {
-          const std::filesystem::path p = base_dir_ / scalar(f, "part file");
+          const std::string name = scalar(f, "part file");
+          if (name.empty()) continue;
+          const std::filesystem::path p = base_dir_ / name;
           Diagnostics d;
           if (!local.load_yaml(p, d)) {
             for (Diagnostic x : d) {
-              if (!x.where.known()) x.where = at(f);
+              // Problems with the file as a whole are located at the line naming it.
+              if (!x.where.known() || x.where.line == 0) x.where = at(f);
               diags_.add(x);
             }
           }
@@ -100,20 +94,20 @@ class Reader {
     std::vector<EnvDecl> environments;
     if (auto env = root["environment"]) {
       if (!env.IsSequence() && !env.IsMap()) {
-        error(DiagnosticCode::kMalformedInput, "environment must be a list of entries", at(env));
+        error(codes::kMalformedInput, "environment must be a list of entries", at(env));
       } else if (env.IsMap()) {
         declare_environment(env, *lib, design, environments);
       } else {
         for (const auto& e : env) declare_environment(e, *lib, design, environments);
       }
     } else {
-      error(DiagnosticCode::kMalformedInput,
+      error(codes::kMalformedInput,
             "the design has no 'environment': a hack must hang from something fixed",
             SourceLocation{file_, 1, 1});
     }
     if (auto parts = root["parts"]) {
       if (!parts.IsSequence()) {
-        error(DiagnosticCode::kMalformedInput, "parts must be a list", at(parts));
+        error(codes::kMalformedInput, "parts must be a list", at(parts));
       } else {
         for (const auto& p : parts) declare_part(p, *lib, design, /*is_target=*/false);
       }
@@ -126,7 +120,7 @@ class Reader {
       if (root["target"]) ++count;
       if (count > static_cast<std::size_t>(options_.max_parts)) {
         error(
-            DiagnosticCode::kInvalidValue,
+            codes::kLimitExceeded,
             fmt::format("the design has {} parts; the limit here is {}", count, options_.max_parts),
             SourceLocation{file_, 1, 1});
         return;
@@ -138,7 +132,15 @@ class Reader {
     std::vector<ConnectDecl> connects;
     if (auto conns = root["connections"]) {
       if (!conns.IsSequence()) {
-        error(DiagnosticCode::kMalformedInput, "connections must be a list", at(conns));
+        error(codes::kMalformedInput, "connections must be a list", at(conns));
+      } else if (options_.max_connections > 0 &&
+                 conns.size() > static_cast<std::size_t>(options_.max_connections)) {
+        error(codes::kLimitExceeded,
+              fmt::format("the design has {} connections; the limit here is {}",
+                          conns.size(),
+                          options_.max_connections),
+              at(conns));
+        return;
       } else {
         for (const auto& c : conns) parse_connection(c, design, connects);
       }
@@ -176,7 +178,7 @@ class Reader {
       if (!a_in && !b_in && (missing.count(c.a.part.get()) || missing.count(c.b.part.get()))) {
         step.skipped = true;
         diags_.add({Severity::kNote,
-                    DiagnosticCode::kNotInAssembly,
+                    codes::kNotInAssembly,
                     fmt::format("skipped {}: {} is not in the assembly because an earlier connect "
                                 "failed",
                                 step.text,
@@ -208,7 +210,7 @@ class Reader {
       step.report.diagnostics = d;
       diags_.append(d);
       if (step.accepted && !design.assembly.find(tdecl.part.get())) {
-        diags_.error(DiagnosticCode::kTargetMissing,
+        diags_.error(codes::kTargetMissing,
                      fmt::format("the target {} is not connected to the hack", tdecl.label),
                      tdecl.where);
       }
@@ -216,7 +218,7 @@ class Reader {
     }
     for (const auto& [name, part] : design.parts) {
       if (!design.assembly.find(part.get()) && !missing.count(part.get())) {
-        diags_.warning(DiagnosticCode::kNotConnected,
+        diags_.warning(codes::kNotConnected,
                        fmt::format("part {} is declared but never connected", name),
                        declared_at_[name]);
       }
@@ -243,119 +245,26 @@ class Reader {
     SourceLocation where;
   };
 
-  SourceLocation at(const YAML::Node& n) const { return loc(n.Mark()); }
-  SourceLocation loc(const YAML::Mark& m) const {
-    if (m.line < 0) return SourceLocation{file_, 0, 0};
-    return SourceLocation{file_, m.line + 1, m.column + 1};
-  }
+  SourceLocation at(const YAML::Node& n) const { return in_.at(n); }
   void error(DiagnosticCode code, std::string msg, SourceLocation where) {
-    diags_.error(code, std::move(msg), std::move(where));
+    in_.error(code, std::move(msg), std::move(where));
   }
-
   void check_keys(const YAML::Node& map, std::initializer_list<std::string_view> allowed) {
-    std::vector<std::string> names(allowed.begin(), allowed.end());
-    for (const auto& kv : map) {
-      std::string key;
-      try {
-        key = kv.first.as<std::string>();
-      } catch (const YAML::Exception&) {
-        error(DiagnosticCode::kMalformedInput, "keys must be plain names", at(kv.first));
-        continue;
-      }
-      if (std::find(names.begin(), names.end(), key) == names.end()) {
-        std::string list;
-        for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-        error(DiagnosticCode::kUnknownName,
-              fmt::format(
-                  "unknown key '{}'{} (expected one of: {})", key, did_you_mean(key, names), list),
-              at(kv.first));
-      }
-    }
+    in_.check_keys(map, allowed);
   }
-
+  // The value of a scalar; "" (reported) if it is not one.
   std::string scalar(const YAML::Node& n, std::string_view what) {
-    if (!n.IsScalar()) {
-      error(DiagnosticCode::kMalformedInput, fmt::format("{} must be a single value", what), at(n));
-      return "";
-    }
-    return n.Scalar();
+    return in_.string(n, what).value_or("");
   }
-
   std::optional<double> number(const YAML::Node& n, std::string_view what) {
-    if (!n.IsScalar()) {
-      error(DiagnosticCode::kMalformedInput, fmt::format("{} must be a number", what), at(n));
-      return std::nullopt;
-    }
-    double v = 0;
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception&) {
-      error(DiagnosticCode::kMalformedInput,
-            fmt::format("{} must be a number, not '{}'", what, n.Scalar()),
-            at(n));
-      return std::nullopt;
-    }
-    if (!std::isfinite(v)) {
-      error(DiagnosticCode::kInvalidValue,
-            fmt::format("{} is {}, not a finite number", what, n.Scalar()),
-            at(n));
-      return std::nullopt;
-    }
-    return v;
+    return in_.number(n, what);
   }
-
   std::optional<bool> boolean(const YAML::Node& n, std::string_view what) {
-    try {
-      if (n.IsScalar()) return n.as<bool>();
-    } catch (const YAML::Exception&) {
-    }
-    error(DiagnosticCode::kMalformedInput, fmt::format("{} must be true or false", what), at(n));
-    return std::nullopt;
+    return in_.boolean(n, what);
   }
-
-  std::optional<Vec3> vec3(const YAML::Node& n,
-                           std::string_view what,
-                           double limit,
-                           std::string_view unit) {
-    if (!n.IsSequence() || n.size() != 3) {
-      error(DiagnosticCode::kMalformedInput,
-            fmt::format("{} must be a list of three numbers [x, y, z]", what),
-            at(n));
-      return std::nullopt;
-    }
-    Vec3 v;
-    for (std::size_t i = 0; i < 3; ++i) {
-      auto x = number(n[i], what);
-      if (!x) return std::nullopt;
-      if (std::abs(*x) > limit) {
-        error(DiagnosticCode::kInvalidValue,
-              fmt::format(
-                  "{} value {:g} {} is absurd (more than {:g} {})", what, *x, unit, limit, unit),
-              at(n[i]));
-        return std::nullopt;
-      }
-      v[static_cast<int>(i)] = *x;
-    }
-    return v;
-  }
-
   Frame frame(const YAML::Node& n, std::string_view what) {
-    Frame f;
-    if (!n) return f;
-    if (!n.IsMap()) {
-      error(DiagnosticCode::kMalformedInput,
-            fmt::format("{} must be a mapping {{pos: [x, y, z], rot: [a, b, c]}}", what),
-            at(n));
-      return f;
-    }
-    check_keys(n, {"pos", "rot"});
-    if (auto p = n["pos"]) {
-      if (auto v = vec3(p, fmt::format("{} pos", what), kMaxCoordinateMm, "mm")) f.pos = *v;
-    }
-    if (auto r = n["rot"]) {
-      if (auto v = vec3(r, fmt::format("{} rot", what), 36000, "degrees")) f.rot = *v;
-    }
-    return f;
+    if (!n) return Frame();
+    return in_.frame(n, what).value_or(Frame());
   }
 
   std::shared_ptr<Part> make_part(const YAML::Node& n,
@@ -363,7 +272,7 @@ class Reader {
                                   const std::string& name) {
     if (auto prims = n["primitives"]) {
       if (n["part"]) {
-        error(DiagnosticCode::kMalformedInput,
+        error(codes::kMalformedInput,
               fmt::format("{}: give either 'part' or 'primitives', not both", name),
               at(n));
         return nullptr;
@@ -372,7 +281,7 @@ class Reader {
     }
     auto type = n["part"];
     if (!type) {
-      error(DiagnosticCode::kMalformedInput,
+      error(codes::kMalformedInput,
             fmt::format("{}: missing 'part' (a library part name) or 'primitives'", name),
             at(n));
       return nullptr;
@@ -380,7 +289,7 @@ class Reader {
     ParamValues values;
     if (auto params = n["params"]) {
       if (!params.IsMap()) {
-        error(DiagnosticCode::kMalformedInput, "params must be a mapping name: value", at(params));
+        error(codes::kMalformedInput, "params must be a mapping name: value", at(params));
         return nullptr;
       }
       for (const auto& kv : params) {
@@ -396,7 +305,7 @@ class Reader {
 
   std::shared_ptr<Part> make_primitives(const YAML::Node& prims, const std::string& name) {
     if (!prims.IsMap() || prims.size() == 0) {
-      error(DiagnosticCode::kMalformedInput,
+      error(codes::kMalformedInput,
             fmt::format("{}: primitives must map names to primitives, e.g. "
                         "{{rod: {{type: rod, radius: 5, length: 500}}}}",
                         name),
@@ -405,78 +314,9 @@ class Reader {
     }
     std::vector<Primitive> list;
     for (const auto& kv : prims) {
-      const std::string pname = scalar(kv.first, "primitive name");
-      const YAML::Node& spec = kv.second;
-      if (!spec.IsMap() || !spec["type"]) {
-        error(DiagnosticCode::kMalformedInput,
-              fmt::format("{}.{}: a primitive needs a 'type'", name, pname),
-              at(kv.first));
-        continue;
-      }
-      const std::string tname = scalar(spec["type"], "type");
-      const auto type = primitive_type_from_string(tname);
-      if (!type) {
-        error(DiagnosticCode::kUnknownName,
-              fmt::format("{}.{}: unknown primitive type '{}' (expected rod, hook, ring, hole, "
-                          "clip, tube, edge, surface or hemisphere)",
-                          name,
-                          pname,
-                          tname),
-              at(spec["type"]));
-        continue;
-      }
-      std::vector<std::string_view> fields = shape_field_names(*type);
-      std::vector<std::string> allowed{
-          "type", "frame", "flex", "centerline", "is_open", "open_for_connect"};
-      for (auto f : fields) allowed.emplace_back(f);
-      PrimitiveShape shape;
-      for (const auto& field : spec) {
-        const std::string key = scalar(field.first, "key");
-        if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
-          error(DiagnosticCode::kUnknownName,
-                fmt::format("{}.{}: '{}' is not a {} parameter{}",
-                            name,
-                            pname,
-                            key,
-                            tname,
-                            did_you_mean(key, allowed)),
-                at(field.first));
-        }
-      }
-      bool complete = true;
-      for (auto f : fields) {
-        if (auto v = spec[std::string(f)]) {
-          if (auto x = number(v, fmt::format("{}.{} {}", name, pname, f))) {
-            *shape_field(shape, f) = *x;
-          } else {
-            complete = false;
-          }
-        } else {
-          error(DiagnosticCode::kMalformedInput,
-                fmt::format("{}.{}: a {} needs '{}'", name, pname, tname, f),
-                at(spec));
-          complete = false;
-        }
-      }
-      Primitive p = Primitive::make(pname, *type, shape, frame(spec["frame"], pname));
-      for (auto [key, flag] : {std::pair{"flex", &p.flex},
-                               std::pair{"centerline", &p.centerline},
-                               std::pair{"is_open", &p.is_open},
-                               std::pair{"open_for_connect", &p.open_for_connect}}) {
-        if (auto v = spec[key]) {
-          if (auto b = boolean(v, key)) *flag = *b;
-        }
-      }
-      if (spec["is_open"] && !spec["open_for_connect"] &&
-          (p.type == PrimitiveType::kRod || p.type == PrimitiveType::kHook)) {
-        p.open_for_connect = p.is_open;
-      }
-      if (complete) {
-        Diagnostics d;
-        p.validate(fmt::format("{}.{}", name, pname), d, at(kv.first));
-        diags_.append(d);
-      }
-      list.push_back(std::move(p));
+      const auto pname = in_.name(kv.first, "primitive name");
+      if (!pname) continue;
+      if (auto p = read_primitive_spec(in_, kv.second, name, *pname)) list.push_back(std::move(*p));
     }
     return std::make_shared<Part>(make_primitive_part(std::move(list)));
   }
@@ -487,7 +327,7 @@ class Reader {
                     std::shared_ptr<Part> part) {
     if (name.empty()) return;
     if (design.parts.count(name)) {
-      error(DiagnosticCode::kDuplicateName,
+      error(codes::kDuplicateName,
             fmt::format(
                 "the name '{}' is used twice (first on line {})", name, declared_at_[name].line),
             at(where_node));
@@ -505,14 +345,14 @@ class Reader {
   std::string entry_name(const YAML::Node& n, std::string_view what) {
     auto name = n["name"];
     if (!name) {
-      error(DiagnosticCode::kMalformedInput,
+      error(codes::kMalformedInput,
             fmt::format("each {} entry needs a 'name' to refer to it in connections", what),
             at(n));
       return "";
     }
-    const std::string s = scalar(name, "name");
+    const std::string s = in_.string(name, "name", 128).value_or("");
     if (s.empty() || s.find('.') != std::string::npos) {
-      error(DiagnosticCode::kMalformedInput,
+      error(codes::kMalformedInput,
             fmt::format("name '{}' must be non-empty and contain no '.'", s),
             at(name));
       return "";
@@ -525,7 +365,7 @@ class Reader {
                            Design& design,
                            std::vector<EnvDecl>& out) {
     if (!n.IsMap()) {
-      error(DiagnosticCode::kMalformedInput, "an environment entry must be a mapping", at(n));
+      error(codes::kMalformedInput, "an environment entry must be a mapping", at(n));
       return;
     }
     check_keys(n, {"name", "part", "params", "primitives", "frame"});
@@ -538,7 +378,7 @@ class Reader {
 
   void declare_part(const YAML::Node& n, const PartsLibrary& lib, Design& design, bool is_target) {
     if (!n.IsMap()) {
-      error(DiagnosticCode::kMalformedInput,
+      error(codes::kMalformedInput,
             is_target ? "target must be a mapping" : "a parts entry must be a mapping",
             at(n));
       return;
@@ -562,7 +402,7 @@ class Reader {
     text = scalar(n, "primitive reference");
     const auto dot = text.find('.');
     if (dot == std::string::npos) {
-      error(DiagnosticCode::kMalformedInput,
+      error(codes::kMalformedInput,
             fmt::format("'{}' must name a primitive as part.primitive, e.g. eyehook1.hook", text),
             at(n));
       return std::nullopt;
@@ -573,7 +413,7 @@ class Reader {
     if (it == design.parts.end()) {
       std::vector<std::string> names;
       for (const auto& kv : design.parts) names.push_back(kv.first);
-      error(DiagnosticCode::kUnknownName,
+      error(codes::kUnknownName,
             fmt::format(
                 "no part named '{}' in this design{}", part_name, did_you_mean(part_name, names)),
             at(n));
@@ -584,7 +424,7 @@ class Reader {
     if (!ref.valid()) {
       std::vector<std::string> names;
       for (const auto& p : it->second->primitives) names.push_back(p.name);
-      error(DiagnosticCode::kUnknownPrimitive,
+      error(codes::kUnknownPrimitive,
             fmt::format("{} ({}) has no primitive '{}' (it has {}){}",
                         part_name,
                         it->second->type_name,
@@ -599,7 +439,7 @@ class Reader {
 
   void parse_connection(const YAML::Node& n, Design& design, std::vector<ConnectDecl>& out) {
     if (!n.IsMap()) {
-      error(DiagnosticCode::kMalformedInput,
+      error(codes::kMalformedInput,
             "a connection must be a mapping like {connect: [a.hook, b.rod], alignment: flip}",
             at(n));
       return;
@@ -607,7 +447,7 @@ class Reader {
     check_keys(n, {"connect", "alignment", "fixed"});
     auto pair = n["connect"];
     if (!pair || !pair.IsSequence() || pair.size() != 2) {
-      error(DiagnosticCode::kMalformedInput,
+      error(codes::kMalformedInput,
             "a connection needs 'connect: [part.primitive, part.primitive]'",
             at(pair ? pair : n));
       return;
@@ -623,7 +463,7 @@ class Reader {
       if (auto choice = alignment_choice_from_string(s)) {
         d.options.alignment = *choice;
       } else {
-        error(DiagnosticCode::kUnknownName,
+        error(codes::kUnknownName,
               fmt::format("alignment must be 'default' or 'flip', not '{}'", s),
               at(al));
       }
@@ -643,14 +483,14 @@ class Reader {
     const std::string name = n["name"] ? scalar(n["name"], "name") : "";
     auto it = design.parts.find(name);
     if (it == design.parts.end()) {
-      error(DiagnosticCode::kUnknownName,
+      error(codes::kUnknownName,
             fmt::format("target '{}' is neither declared here (give 'part') nor under parts", name),
             at(n));
       return t;
     }
     if (!it->second) return t;
     if (!n["frame"]) {
-      error(DiagnosticCode::kMalformedInput, "target needs a 'frame' to aim for", at(n));
+      error(codes::kMalformedInput, "target needs a 'frame' to aim for", at(n));
       return t;
     }
     t.part = it->second;
@@ -661,7 +501,7 @@ class Reader {
       const std::string pname = scalar(p, "primitive");
       t.primitive = t.part->find_primitive(pname);
       if (t.primitive < 0) {
-        error(DiagnosticCode::kUnknownPrimitive,
+        error(codes::kUnknownPrimitive,
               fmt::format("target {} ({}) has no primitive '{}' (it has {})",
                           name,
                           t.part->type_name,
@@ -681,25 +521,11 @@ class Reader {
   const DesignOptions& options_;
   std::filesystem::path base_dir_;
   Diagnostics diags_;
+  YamlReader in_;
   std::map<std::string, SourceLocation> declared_at_;
 };
 
 }  // namespace
-
-bool is_input_error(const Diagnostic& d) {
-  switch (d.code) {
-    case DiagnosticCode::kMalformedInput:
-    case DiagnosticCode::kUnreadableFile:
-    case DiagnosticCode::kInvalidValue:
-    case DiagnosticCode::kUnknownName:
-    case DiagnosticCode::kUnknownPart:
-    case DiagnosticCode::kUnknownPrimitive:
-    case DiagnosticCode::kDuplicateName:
-      return d.severity == Severity::kError;
-    default:
-      return false;
-  }
-}
 
 Design load_design_text(std::string_view yaml,
                         std::string_view display_name,
@@ -715,28 +541,15 @@ Design load_design_text(std::string_view yaml,
 Design load_design(const std::filesystem::path& path,
                    const PartsLibrary& library,
                    const DesignOptions& options) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
+  Diagnostics read;
+  const auto text = read_input_file(path, "design file", read);
+  if (!text) {
     Design design;
     design.source = path;
-    design.diagnostics.error(DiagnosticCode::kUnreadableFile,
-                             fmt::format("'{}' is a directory, not a design file", path.string()),
-                             SourceLocation{path.string(), 0, 0});
+    design.diagnostics = read;
     return design;
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    Design design;
-    design.source = path;
-    design.diagnostics.error(DiagnosticCode::kUnreadableFile,
-                             fmt::format("cannot open design file '{}'", path.string()),
-                             SourceLocation{path.string(), 0, 0});
-    return design;
-  }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  Design design =
-      load_design_text(buffer.str(), path.string(), library, options, path.parent_path());
+  Design design = load_design_text(*text, path.string(), library, options, path.parent_path());
   design.source = path;
   return design;
 }

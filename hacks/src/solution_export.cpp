@@ -3,26 +3,21 @@
 #include <fmt/format.h>
 
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <system_error>
 
 #include "fabkit/core/file_io.h"
+#include "fabkit/core/json.h"
 #include "fabkit/core/mesh_io.h"
 #include "fabkit/core/svg_preview.h"
+#include "fabkit/hacks/diagnostic_codes.h"
 
 namespace fabkit::hacks {
 namespace {
 
-using nlohmann::ordered_json;
-
-// Rounds for stable text: 1e-6 mm / degrees is far below anything physical.
-double tidy(double v) {
-  const double r = std::round(v * 1e6) / 1e6;
-  return r == 0 ? 0.0 : r;  // no "-0"
-}
+using ordered_json = Json;
 
 ordered_json vec(const Vec3& v) {
-  return ordered_json::array({tidy(v.x()), tidy(v.y()), tidy(v.z())});
+  return to_json(v);
 }
 
 ordered_json pose_error_json(const PoseError& e) {
@@ -48,17 +43,15 @@ std::string result_json(const Assembly& assembly,
       const auto id = assembly.find(assembly.target()->part.get());
       return id ? assembly.label(*id, assembly.target()->primitive) : std::string();
     }();
-    target["goal"] = {{"pos", vec(assembly.target()->frame.pos)},
-                      {"rot", vec(assembly.target()->frame.normalized().rot)}};
+    target["goal"] = to_json(assembly.target()->frame);
   }
   j["target"] = target;
   ordered_json parts = ordered_json::array();
   for (const SolvedPart& p : r.parts) {
-    const Frame f = p.frame.normalized();
     parts.push_back({{"name", p.name},
                      {"type", p.type},
                      {"role", p.environment ? "environment" : (p.target ? "target" : "part")},
-                     {"frame", {{"pos", vec(f.pos)}, {"rot", vec(f.rot)}}}});
+                     {"frame", to_json(p.frame)}});
   }
   j["parts"] = parts;
   ordered_json slipping = ordered_json::array();
@@ -85,7 +78,7 @@ std::string result_json(const Assembly& assembly,
     timings[t.stage] = std::round(t.milliseconds * 1000) / 1000;
   j["timings_ms"] = timings;
   // Names come from the user's file and may not be UTF-8: replace bad bytes, never fail.
-  return j.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
+  return dump_json(j, 2) + "\n";
 }
 
 std::vector<SceneObject> solution_scene(const Assembly& assembly, const SolveResult& r) {
@@ -135,14 +128,7 @@ bool export_solution(const Assembly& assembly,
                      const std::filesystem::path& directory,
                      Diagnostics& diags,
                      const ExportOptions& options) {
-  std::error_code ec;
-  std::filesystem::create_directories(directory, ec);
-  if (ec) {
-    diags.error(
-        DiagnosticCode::kUnreadableFile,
-        fmt::format("cannot create output directory '{}': {}", directory.string(), ec.message()));
-    return false;
-  }
+  if (!make_output_directory(directory, diags)) return false;
   bool ok = write_file_atomically(
       directory / "result.json", result_json(assembly, result, options.design_name), diags);
   const std::vector<SceneObject> scene = solution_scene(assembly, result);

@@ -11,6 +11,8 @@
 #include <fstream>
 #include <string>
 
+#include "fabkit/hacks/diagnostic_codes.h"
+
 namespace fabkit::hacks {
 namespace {
 
@@ -162,7 +164,7 @@ TEST_F(PartFiles, YamlSyntaxError) {
       "parts:\n"
       "  - name: Broken\n"
       "    description: a: b\n",
-      DiagnosticCode::kMalformedInput,
+      codes::kMalformedInput,
       3);
 }
 
@@ -170,7 +172,7 @@ TEST_F(PartFiles, MissingPrimitives) {
   expect_error("parts:\n" + kGood +
                    "  - name: NoPrims\n"
                    "    description: nothing to connect\n",
-               DiagnosticCode::kMalformedInput,
+               codes::kMalformedInput,
                5);
 }
 
@@ -182,7 +184,7 @@ TEST_F(PartFiles, UnknownPrimitiveType) {
       "      - name: p\n"
       "        type: spring\n"
       "        radius: 3\n",
-      DiagnosticCode::kUnknownName,
+      codes::kUnknownName,
       5);
 }
 
@@ -194,7 +196,7 @@ TEST_F(PartFiles, NegativeRadius) {
                    "        type: rod\n"
                    "        length: 10\n"
                    "        radius: -3\n",
-               DiagnosticCode::kInvalidValue,
+               codes::kInvalidValue,
                10);
 }
 
@@ -208,7 +210,7 @@ TEST_F(PartFiles, NotANumber) {
       "        arc_radius: 10\n"
       "        arc_angle: .nan\n"
       "        thickness: 1\n",
-      DiagnosticCode::kInvalidValue,
+      codes::kInvalidValue,
       7);
 }
 
@@ -225,7 +227,7 @@ TEST_F(PartFiles, DuplicatePrimitiveName) {
       "        type: rod\n"
       "        radius: 1\n"
       "        length: 5\n",
-      DiagnosticCode::kDuplicateName,
+      codes::kDuplicateName,
       8);
 }
 
@@ -235,7 +237,7 @@ TEST_F(PartFiles, MissingMeshFile) {
                    "    mesh: missing.stl\n"
                    "    primitives:\n"
                    "      - {name: peg, type: rod, radius: 1, length: 5}\n",
-               DiagnosticCode::kUnreadableFile,
+               codes::kUnreadableFile,
                6);
 }
 
@@ -245,7 +247,7 @@ TEST_F(PartFiles, UnknownKey) {
                    "    colour: red\n"
                    "    primitives:\n"
                    "      - {name: peg, type: rod, radius: 1, length: 5}\n",
-               DiagnosticCode::kUnknownName,
+               codes::kUnknownName,
                6);
 }
 
@@ -259,7 +261,7 @@ TEST_F(PartFiles, FieldOfAnotherPrimitiveType) {
       "        radius: 1\n"
       "        length: 5\n"
       "        arc_angle: 90\n",
-      DiagnosticCode::kUnknownName,
+      codes::kUnknownName,
       8);
 }
 
@@ -271,7 +273,7 @@ TEST_F(PartFiles, MissingShapeField) {
       "      - name: peg\n"
       "        type: rod\n"
       "        radius: 1\n",
-      DiagnosticCode::kMalformedInput,
+      codes::kMalformedInput,
       4);
 }
 
@@ -280,7 +282,7 @@ TEST_F(PartFiles, WrongNodeType) {
       "parts:\n"
       "  - name: Listy\n"
       "    primitives: {name: peg}\n",
-      DiagnosticCode::kMalformedInput,
+      codes::kMalformedInput,
       3);
 }
 
@@ -290,7 +292,7 @@ TEST_F(PartFiles, NameClashesWithBuiltin) {
       "  - name: DoubleHook\n"
       "    primitives:\n"
       "      - {name: peg, type: rod, radius: 1, length: 5}\n",
-      DiagnosticCode::kDuplicateName,
+      codes::kDuplicateName,
       2);
 }
 
@@ -305,7 +307,7 @@ TEST_F(PartFiles, WireThickerThanItsArc) {
       "        arc_radius: 2\n"
       "        arc_angle: 180\n"
       "        thickness: 3\n",
-      DiagnosticCode::kInvalidValue,
+      codes::kInvalidValue,
       4);
 }
 
@@ -314,7 +316,7 @@ TEST_F(PartFiles, UnreadableFile) {
   Diagnostics diags;
   EXPECT_FALSE(lib.load_yaml(dir_ / "does_not_exist.yaml", diags));
   ASSERT_EQ(diags.size(), 1u);
-  EXPECT_EQ(diags.items()[0].code, DiagnosticCode::kUnreadableFile);
+  EXPECT_EQ(diags.items()[0].code, codes::kUnreadableFile);
   EXPECT_TRUE(lib.generators().empty());
 }
 

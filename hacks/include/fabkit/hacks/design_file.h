@@ -25,9 +25,17 @@
 
 namespace fabkit::hacks {
 
+/// Whether a design may name part files (`part_files:`).
+enum class PartFilePolicy {
+  kAllow,   ///< relative to the design's directory (command line, Python)
+  kRefuse,  ///< a 400-style input error: designs posted to the server may not name files
+};
+
 struct DesignOptions {
   VerifyOptions verify;
-  int max_parts = 0;  ///< refuse designs with more parts than this (0: no limit)
+  int max_parts = 0;        ///< refuse designs with more parts than this (0: no limit)
+  int max_connections = 0;  ///< refuse designs with more connections than this (0: no limit)
+  PartFilePolicy part_files = PartFilePolicy::kAllow;
 };
 
 /// One step of the design in file order, with its outcome.
@@ -67,9 +75,5 @@ Design load_design_text(std::string_view yaml,
                         const PartsLibrary& library,
                         const DesignOptions& options = {},
                         const std::filesystem::path& base_dir = {});
-
-/// Whether a diagnostic is about the input (unreadable, malformed, unknown names, invalid
-/// values) rather than about the design's physics.
-bool is_input_error(const Diagnostic& d);
 
 }  // namespace fabkit::hacks
