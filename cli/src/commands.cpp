@@ -3,241 +3,103 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
-#include <algorithm>
+#include <array>
 #include <cerrno>
-#include <chrono>
-#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <optional>
-#include <sstream>
+#include <vector>
 
-#include "embedded_examples.h"
-#include "fabkit/hacks/design_file.h"
-#include "fabkit/hacks/parts_library.h"
-#include "fabkit/hacks/solution_export.h"
-#include "fabkit/hacks/solve.h"
+#include "fabkit/core/file_io.h"
+#include "fabkit/core/yaml_reader.h"
 #include "fabkit/server/editor_server.h"
+#include "kits.h"
 
 namespace fabkit::cli {
-namespace {
 
-using hacks::Design;
-using hacks::DesignStep;
+std::span<const KitCommands> kits() {
+  static constexpr std::array<KitCommands, 1> kAll = {
+      KitCommands{"hacks",
+                  "fixture hacks from everyday parts (FabHaL); build solves and exports",
+                  hacks_check,
+                  hacks_build},
+  };
+  return kAll;
+}
 
 void print_diagnostic(const Diagnostic& d) {
   std::fprintf(stderr, "%s\n", d.format().c_str());
 }
 
-std::string where_prefix(const SourceLocation& where) {
-  if (!where.known()) return "";
-  return where.line > 0 ? fmt::format("{}:{}: ", where.file, where.line) : where.file + ": ";
+void print_diagnostics(const Diagnostics& ds) {
+  for (const Diagnostic& d : ds) print_diagnostic(d);
 }
 
-void print_steps(const Design& design) {
-  for (const DesignStep& step : design.steps) {
-    std::string outcome;
-    if (step.skipped) {
-      outcome = "skipped";
-    } else if (!step.accepted) {
-      outcome = "REJECTED";
-    } else if (step.report.closes_cycle) {
-      outcome = fmt::format("ok, closes cycle {} ({} start{}, {:.1f} ms)",
-                            step.report.cycles.empty() ? "" : step.report.cycles.front(),
-                            step.report.starts_used,
-                            step.report.starts_used == 1 ? "" : "s",
-                            step.report.milliseconds);
-    } else {
-      outcome = "ok";
-    }
-    std::printf("%s%s: %s\n", where_prefix(step.where).c_str(), step.text.c_str(), outcome.c_str());
+int exit_code(DiagnosticClass c) {
+  switch (c) {
+    case DiagnosticClass::kInput:
+      return kExitBadInput;
+    case DiagnosticClass::kInfeasible:
+      return kExitInfeasible;
+    case DiagnosticClass::kFallsApart:
+      return kExitFallsApart;
+    case DiagnosticClass::kCheck:
+      return kExitCheckFailed;
+    case DiagnosticClass::kIo:
+      return kExitWriteFailed;
+    case DiagnosticClass::kTimeout:
+      return kExitTimeLimit;
+    case DiagnosticClass::kInternal:
+      return kExitInternal;
   }
+  return kExitInternal;
 }
 
-int exit_code_for(const Design& design) {
-  for (const Diagnostic& d : design.diagnostics) {
-    if (hacks::is_input_error(d)) return kExitBadInput;
-  }
-  if (!design.readable) return kExitBadInput;
-  return design.diagnostics.has_errors() ? kExitInfeasible : kExitOk;
-}
-
-void print_summary(const Design& design) {
-  const hacks::Assembly& a = design.assembly;
-  const std::size_t cycles = a.cycle_connections().size();
-  int rejected = 0;
-  for (const DesignStep& s : design.steps) rejected += (!s.accepted && !s.skipped) ? 1 : 0;
-  const char* verdict =
-      design.feasible() ? "valid" : (design.readable ? "infeasible" : "unreadable");
-  std::printf(
-      "%s: %s — %d parts, %zu connections (%zu close%s a cycle), %d connector parameters%s\n",
-      design.name.empty() ? "design" : design.name.c_str(),
-      verdict,
-      a.part_count(),
-      a.connections().size(),
-      cycles,
-      cycles == 1 ? "s" : "",
-      a.parameter_count(),
-      rejected ? fmt::format("; {} step{} rejected", rejected, rejected == 1 ? "" : "s").c_str()
-               : "");
-}
-
-int check_design(Design design, bool quiet) {
-  if (!quiet) print_steps(design);
-  for (const Diagnostic& d : design.diagnostics) print_diagnostic(d);
-  if (design.readable) print_summary(design);
-  return exit_code_for(design);
-}
-
-}  // namespace
-
-// The built-in library plus the user's part files; nullopt (diagnostics printed) on error.
-static std::optional<hacks::PartsLibrary> library_with(const std::vector<std::string>& part_files) {
-  hacks::PartsLibrary library = hacks::PartsLibrary::builtin();
-  for (const std::string& file : part_files) {
-    Diagnostics d;
-    if (!library.load_yaml(file, d)) {
-      for (const Diagnostic& x : d) print_diagnostic(x);
-      return std::nullopt;
-    }
-  }
-  return library;
-}
-
-int run_check(const CheckSettings& settings) {
-  const std::optional<hacks::PartsLibrary> library = library_with(settings.part_files);
-  if (!library) return kExitBadInput;
-  hacks::DesignOptions options;
-  options.verify.restarts = settings.restarts;
-  options.verify.seed = settings.seed;
-  return check_design(hacks::load_design(settings.design, *library, options), settings.quiet);
+int exit_code(const Diagnostics& diags) {
+  const auto c = diags.deciding_class();
+  return c ? exit_code(*c) : kExitOk;
 }
 
 namespace {
 
-std::string stage_title(std::string_view stage) {
-  if (stage == "step1") return "step 1: reaching the target";
-  if (stage == "step2") return "step 2: relaxing under gravity";
-  return "checking stability";
-}
-
-void print_parts_table(const hacks::SolveResult& r) {
-  std::printf("\n  %-22s %-18s %28s   %s\n", "part", "type", "position (mm)", "rotation (deg)");
-  for (const hacks::SolvedPart& p : r.parts) {
-    Frame f = p.frame.normalized();
-    // Round first so tiny negatives print as 0.0, not -0.0.
-    for (int i = 0; i < 3; ++i) {
-      f.pos[i] = std::round(f.pos[i] * 10) / 10 + 0.0;
-      f.rot[i] = std::round(f.rot[i] * 10) / 10 + 0.0;
-      if (f.rot[i] >= 360.0) f.rot[i] -= 360.0;
-    }
-    std::printf("  %-22s %-18s [%8.1f %8.1f %8.1f]   [%6.1f %6.1f %6.1f]%s\n",
-                p.name.c_str(),
-                p.type.c_str(),
-                f.pos.x(),
-                f.pos.y(),
-                f.pos.z(),
-                f.rot.x(),
-                f.rot.y(),
-                f.rot.z(),
-                p.environment ? "  (environment)" : (p.target ? "  (target)" : ""));
+// Reads the design and finds its kit from the header; prints why not and returns nullptr.
+const KitCommands* kit_of(const DesignSettings& settings, std::string& text, int& failure) {
+  Diagnostics d;
+  const auto bytes = read_input_file(settings.design, "design file", d);
+  std::vector<std::string_view> names;
+  for (const KitCommands& k : kits()) names.push_back(k.kit);
+  std::optional<KitTag> tag;
+  if (bytes) tag = read_kit_tag(*bytes, settings.design, names, d);
+  if (!tag) {
+    print_diagnostics(d);
+    failure = exit_code(d);
+    return nullptr;
   }
-  std::printf("\n");
-}
-
-// Verifies, solves and exports one design; prints progress as it goes.
-int solve_design(Design design, const SolveSettings& settings) {
-  const bool talk = !settings.quiet;
-  if (talk) {
-    std::printf("verifying %zu steps of %s ... ",
-                design.steps.size(),
-                design.name.empty() ? "the design" : design.name.c_str());
-    std::fflush(stdout);
+  text = *bytes;
+  for (const KitCommands& k : kits()) {
+    if (k.kit == tag->kit) return &k;
   }
-  double verify_ms = 0;
-  for (const DesignStep& s : design.steps) verify_ms += s.report.milliseconds;
-  const int check = exit_code_for(design);
-  if (check != kExitOk) {
-    if (talk) std::printf("failed\n");
-    for (const Diagnostic& d : design.diagnostics) print_diagnostic(d);
-    return check;
-  }
-  if (talk) std::printf("ok (%.1f ms)\n", verify_ms);
-  for (const Diagnostic& d : design.diagnostics) print_diagnostic(d);
-
-  hacks::SolveOptions options;
-  std::string open_stage;
-  auto started = std::chrono::steady_clock::now();
-  auto close_stage = [&] {
-    if (open_stage.empty() || !talk) return;
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started)
-            .count();
-    std::printf("done (%.1f ms)\n", ms);
-  };
-  options.on_stage = [&](std::string_view stage) {
-    close_stage();
-    open_stage = std::string(stage);
-    started = std::chrono::steady_clock::now();
-    if (talk) {
-      std::printf("%s ... ", stage_title(stage).c_str());
-      std::fflush(stdout);
-    }
-  };
-  hacks::SolveResult result = hacks::solve(design.assembly, options);
-  close_stage();
-  result.timings.insert(result.timings.begin(), {"verify", verify_ms});
-  for (const Diagnostic& d : result.diagnostics) print_diagnostic(d);
-  if (!result.feasible) {
-    std::fprintf(stderr, "error: %s\n", result.message.c_str());
-    return kExitInfeasible;
-  }
-  if (talk) {
-    print_parts_table(result);
-    std::printf("%s\n", result.summary().c_str());
-  } else {
-    std::printf("%s: %s\n", design.name.c_str(), result.message.c_str());
-  }
-  if (settings.write && !settings.output_dir.empty()) {
-    Diagnostics d;
-    hacks::ExportOptions eo;
-    eo.design_name = design.name;
-    if (!hacks::export_solution(design.assembly, result, settings.output_dir, d, eo)) {
-      for (const Diagnostic& x : d) print_diagnostic(x);
-      return kExitBadInput;
-    }
-    if (talk) {
-      std::printf(
-          "wrote %s/result.json, scene.glb (open it in any glTF viewer), assembly.stl, "
-          "assembly.obj\n",
-          settings.output_dir.c_str());
-    }
-  }
-  for (const hacks::Slip& s : result.slips) {
-    std::fprintf(stderr, "error: falls apart: %s\n", s.message.c_str());
-  }
-  return result.stable ? kExitOk : kExitFallsApart;
+  failure = kExitInternal;
+  return nullptr;
 }
 
 }  // namespace
 
-int run_solve(const SolveSettings& settings) {
-  const std::optional<hacks::PartsLibrary> library = library_with(settings.part_files);
-  if (!library) return kExitBadInput;
-  return solve_design(hacks::load_design(settings.design, *library), settings);
+int run_check(const DesignSettings& settings) {
+  std::string text;
+  int failure = kExitOk;
+  const KitCommands* kit = kit_of(settings, text, failure);
+  if (!kit) return failure;
+  return kit->check(DesignInput{settings, std::move(text)});
 }
 
-int run_demo(const DemoSettings& settings) {
-  std::printf("fabkit demo: the bird feeder hack of the FabHacks paper (Fig. 1, left)\n\n");
-  Design design =
-      hacks::load_design_text(kDemoDesign, kDemoDesignName, hacks::PartsLibrary::builtin());
-  print_steps(design);
-  std::printf("\n");
-  SolveSettings solve;
-  solve.output_dir = settings.output_dir;
-  return solve_design(std::move(design), solve);
+int run_build(const DesignSettings& settings) {
+  std::string text;
+  int failure = kExitOk;
+  const KitCommands* kit = kit_of(settings, text, failure);
+  if (!kit) return failure;
+  return kit->build(DesignInput{settings, std::move(text)});
 }
 
 int run_python(const std::string& mode,
@@ -283,14 +145,13 @@ int run_serve(const ServeSettings& settings) {
   o.port = settings.port;
   if (std::filesystem::is_directory(FABKIT_WEB_DIR)) o.web_root = FABKIT_WEB_DIR;
   if (!settings.design.empty()) {
-    std::ifstream in(settings.design, std::ios::binary);
-    if (!in) {
-      std::fprintf(stderr, "error: cannot open design file '%s'\n", settings.design.c_str());
-      return kExitBadInput;
+    Diagnostics d;
+    const auto text = read_input_file(settings.design, "design file", d);
+    if (!text) {
+      print_diagnostics(d);
+      return exit_code(d);
     }
-    std::stringstream text;
-    text << in.rdbuf();
-    o.initial_design = text.str();
+    o.initial_design = *text;
     o.initial_design_name = settings.design;
   }
   server::EditorServer server(o);
@@ -311,60 +172,6 @@ int run_serve(const ServeSettings& settings) {
   }
   std::fflush(stdout);
   server.listen();
-  return kExitOk;
-}
-
-int run_parts(const PartsSettings& settings) {
-  const hacks::PartsLibrary& library = hacks::PartsLibrary::builtin();
-  if (settings.name.empty()) {
-    for (const hacks::PartGenerator& g : library.generators()) {
-      Diagnostics d;
-      auto part = library.make(g.name, {}, d);
-      std::printf("%-20s %-12s %s\n",
-                  g.name.c_str(),
-                  std::string(to_string(g.category)).c_str(),
-                  part ? part->primitive_list().c_str() : "");
-    }
-    return kExitOk;
-  }
-  Diagnostics d;
-  auto part = library.make(settings.name, {}, d);
-  if (!part) {
-    for (const Diagnostic& x : d) print_diagnostic(x);
-    return kExitBadInput;
-  }
-  const hacks::PartGenerator* g = library.find(settings.name);
-  std::printf("%s — %s\n  mass %.1f (mm³ at density 1), centre of mass [%.1f, %.1f, %.1f] mm\n",
-              part->type_name.c_str(),
-              part->description.c_str(),
-              part->mass,
-              part->center_of_mass.x(),
-              part->center_of_mass.y(),
-              part->center_of_mass.z());
-  for (const hacks::ParamSchema& p : g->params) {
-    std::printf("  parameter %s = %g %s (%g to %g): %s\n",
-                p.name.c_str(),
-                p.default_value,
-                p.unit.c_str(),
-                p.min,
-                p.max,
-                p.doc.c_str());
-  }
-  for (const hacks::Primitive& prim : part->primitives) {
-    std::printf("  %-12s %s at %s\n",
-                prim.name.c_str(),
-                prim.describe().c_str(),
-                prim.frame.to_string().c_str());
-    for (const hacks::ParamSpec& s : prim.connector_params()) {
-      std::printf("  %14s %-6s init %g in [%g, %g] %s\n",
-                  "",
-                  s.name.c_str(),
-                  s.init,
-                  s.lo,
-                  s.hi,
-                  std::string(to_string(s.tag)).c_str());
-    }
-  }
   return kExitOk;
 }
 

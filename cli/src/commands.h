@@ -1,38 +1,52 @@
 #pragma once
-// fabkit's command-line front end: main() parses into settings and calls run_<command>.
+// fabkit's command-line front end: main() parses into settings and calls run_<command>. The
+// kit-neutral verbs (check, build) read a design file's `fabkit:` header and hand over to that
+// kit's commands (kits.h).
 
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "fabkit/core/diagnostics.h"
 
 namespace fabkit::cli {
 
 /// Exit codes, one per failure class (documented in README.md).
 enum ExitCode : int {
-  kExitOk = 0,          ///< valid design / stable
-  kExitUsage = 1,       ///< bad command line
-  kExitBadInput = 2,    ///< unreadable or malformed input
-  kExitInfeasible = 3,  ///< the design cannot be built (a connect was rejected)
-  kExitFallsApart = 4,  ///< solved, but a connection slips off under gravity
+  kExitOk = 0,           ///< valid design / stable / built
+  kExitUsage = 1,        ///< bad command line
+  kExitBadInput = 2,     ///< unreadable or malformed input
+  kExitInfeasible = 3,   ///< the design cannot be made as asked (a connect was rejected, ...)
+  kExitFallsApart = 4,   ///< made, but it does not hold (slips off, tips over)
+  kExitWriteFailed = 5,  ///< an output file or directory could not be written
+  kExitTimeLimit = 6,    ///< stopped at the time limit
+  kExitCheckFailed = 7,  ///< built, but a fabrication check failed (collision, fit, balance)
+  kExitInternal = 8,     ///< a bug in fabkit (please report it)
 };
 
-struct CheckSettings {
-  std::string design;                   ///< path, or the embedded demo when empty
-  std::vector<std::string> part_files;  ///< extra part libraries (YAML)
-  bool quiet = false;                   ///< only diagnostics, no per-step lines
-  int restarts = 16;
-  unsigned seed = 1;
+/// The exit code for the class that decides `diags` (kExitOk when there are no errors).
+int exit_code(const Diagnostics& diags);
+/// The exit code for one class.
+int exit_code(DiagnosticClass c);
+
+/// What every kit's check and build take from the command line.
+struct DesignSettings {
+  std::string design;                   ///< path of the design file
+  std::string output_dir;               ///< build: where the outputs go
+  std::vector<std::string> part_files;  ///< hacks: extra part libraries (YAML)
+  bool quiet = false;                   ///< only diagnostics and the verdict
+  std::optional<double> time_limit_s;   ///< stop after this long (exit 6)
+  int restarts = 16;                    ///< hacks: starts of the cycle-closure search
+  unsigned seed = 1;                    ///< seeds every random start
 };
 
-int run_check(const CheckSettings& settings);
+/// `fabkit check DESIGN`: the kit named by the file's header checks it.
+int run_check(const DesignSettings& settings);
+/// `fabkit build DESIGN -o OUT`: the kit named by the header builds every output.
+int run_build(const DesignSettings& settings);
 
-struct SolveSettings {
-  std::string design;      ///< path, or the embedded demo when empty
-  std::string output_dir;  ///< where result.json, scene.glb, STL and OBJ go
-  std::vector<std::string> part_files;
-  bool quiet = false;
-  bool write = true;  ///< write the output files
-};
-int run_solve(const SolveSettings& settings);
+/// `fabkit solve DESIGN [-o OUT]`: a hacks design solved under gravity (with outputs).
+int run_solve(const DesignSettings& settings);
 
 struct DemoSettings {
   std::string output_dir = "fabkit-demo";
@@ -56,5 +70,9 @@ struct PartsSettings {
   std::string name;  ///< one part in detail, or all when empty
 };
 int run_parts(const PartsSettings& settings);
+
+/// Prints one diagnostic to stderr ("file:line:col: error: ...").
+void print_diagnostic(const Diagnostic& d);
+void print_diagnostics(const Diagnostics& ds);
 
 }  // namespace fabkit::cli

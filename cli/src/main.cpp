@@ -1,34 +1,65 @@
 // fabkit command line: parse, then hand over to run_<command>().
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <string>
 
 #include "commands.h"
+#include "kits.h"
+
+namespace {
+
+using fabkit::cli::DesignSettings;
+
+// Options shared by check, solve and build.
+void add_design_options(CLI::App* cmd, DesignSettings& s) {
+  cmd->add_option("design", s.design, "design file (YAML; its 'fabkit:' header names the kit)")
+      ->required();
+  cmd->add_option("--parts", s.part_files, "hacks: extra part library file(s) (YAML)");
+  cmd->add_flag("-q,--quiet", s.quiet, "print diagnostics and the verdict only");
+  cmd->add_option("--time-limit", s.time_limit_s, "stop after this many seconds (exit 6)")
+      ->check(CLI::Range(0.001, 1e6));
+  cmd->add_option("--seed", s.seed, "seed of every random start (same seed, same answer)");
+}
+
+std::string kit_list() {
+  std::string out;
+  for (const auto& k : fabkit::cli::kits()) {
+    out += "\n  " + std::string(k.kit) + "/1  " + std::string(k.description);
+  }
+  return out;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace fabkit::cli;
   CLI::App app{"fabkit: design physical things from parts and get a plan you can build"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "fabkit 0.1.0");
+  app.footer("Kits (the 'fabkit:' header of a design file):" + kit_list());
 
-  CheckSettings check;
+  DesignSettings check;
   CLI::App* check_cmd = app.add_subcommand(
-      "check", "Verify every connect of a FabHaL design file and report each outcome");
-  check_cmd->add_option("design", check.design, "design file (YAML)")->required();
-  check_cmd->add_option("--parts", check.part_files, "extra part library file(s) (YAML)");
-  check_cmd->add_flag("-q,--quiet", check.quiet, "print diagnostics only");
-  check_cmd->add_option("--restarts", check.restarts, "starts of the cycle-closure search (T)")
+      "check", "Check a design file of any kit and report every finding (exit codes: README)");
+  add_design_options(check_cmd, check);
+  check_cmd
+      ->add_option("--restarts", check.restarts, "hacks: starts of the cycle-closure search (T)")
       ->check(CLI::Range(1, 1000));
-  check_cmd->add_option("--seed", check.seed, "seed of the random starts");
 
-  SolveSettings solve;
+  DesignSettings build;
+  CLI::App* build_cmd = app.add_subcommand(
+      "build", "Build every output of a design file of any kit into a directory");
+  add_design_options(build_cmd, build);
+  build_cmd->add_option("-o,--output", build.output_dir, "output directory")->required();
+
+  DesignSettings solve;
   CLI::App* solve_cmd = app.add_subcommand(
-      "solve", "Solve a design: reach the target, relax under gravity, say if it falls apart");
-  solve_cmd->add_option("design", solve.design, "design file (YAML)")->required();
+      "solve",
+      "Solve a hacks design: reach the target, relax under gravity, say if it falls apart");
+  add_design_options(solve_cmd, solve);
   solve_cmd->add_option("-o,--output",
                         solve.output_dir,
                         "directory for result.json, scene.glb, assembly.stl, assembly.obj");
-  solve_cmd->add_option("--parts", solve.part_files, "extra part library file(s) (YAML)");
-  solve_cmd->add_flag("-q,--quiet", solve.quiet, "print the verdict and diagnostics only");
 
   DemoSettings demo;
   CLI::App* demo_cmd = app.add_subcommand(
@@ -38,7 +69,7 @@ int main(int argc, char** argv) {
   std::string script;
   std::vector<std::string> script_args;
   CLI::App* run_cmd = app.add_subcommand(
-      "run", "Run a FabHaL program written in Python (from fabkit.hacks import *)");
+      "run", "Run a fabkit program written in Python (from fabkit.hacks import *)");
   run_cmd->add_option("program", script, "Python file")->required();
   run_cmd->add_option("args", script_args, "arguments passed to the program");
   run_cmd->prefix_command();
@@ -61,7 +92,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
 
   PartsSettings parts;
-  CLI::App* parts_cmd = app.add_subcommand("parts", "List the parts library, or show one part");
+  CLI::App* parts_cmd =
+      app.add_subcommand("parts", "List the hacks parts library, or show one part");
   parts_cmd->add_option("name", parts.name, "part name");
 
   try {
@@ -71,6 +103,7 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitUsage;
   }
   if (*check_cmd) return run_check(check);
+  if (*build_cmd) return run_build(build);
   if (*solve_cmd) return run_solve(solve);
   if (*demo_cmd) return run_demo(demo);
   if (*parts_cmd) return run_parts(parts);

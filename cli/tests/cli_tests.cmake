@@ -28,19 +28,19 @@ expect_run(1 "design" check)
 expect_run(1 "" nonsense-command)
 expect_run(1 "" check a.yaml --restarts 0)
 # 2: unreadable or malformed input.
-expect_run(2 "cannot open design file" check ${tmp}/does-not-exist.yaml)
-file(WRITE ${tmp}/syntax.yaml "environment:\n  - {name: door, part: [\n")
-expect_run(2 "syntax.yaml:3:1: error: YAML syntax error" check ${tmp}/syntax.yaml)
-file(WRITE ${tmp}/unknown.yaml "environment:\n  - {name: e, part: CeilingHok}\n")
-expect_run(2 "unknown.yaml:2:" check ${tmp}/unknown.yaml)
+expect_run(2 "cannot read design file" check ${tmp}/does-not-exist.yaml)
+file(WRITE ${tmp}/syntax.yaml "fabkit: hacks/1\nenvironment:\n  - {name: door, part: [\n")
+expect_run(2 "syntax.yaml:4:1: error: YAML syntax error" check ${tmp}/syntax.yaml)
+file(WRITE ${tmp}/unknown.yaml "fabkit: hacks/1\nenvironment:\n  - {name: e, part: CeilingHok}\n")
+expect_run(2 "unknown.yaml:3:" check ${tmp}/unknown.yaml)
 expect_run(2 "did you mean" check ${tmp}/unknown.yaml)
-file(WRITE ${tmp}/nan.yaml "environment:\n  - {name: e, primitives: {rod: {type: rod, radius: .nan, length: 5}}}\n")
+file(WRITE ${tmp}/nan.yaml "fabkit: hacks/1\nenvironment:\n  - {name: e, primitives: {rod: {type: rod, radius: .nan, length: 5}}}\n")
 expect_run(2 "not a finite number" check ${tmp}/nan.yaml)
 expect_run(2 "unknown part 'NoSuchPart'" parts NoSuchPart)
 # 3: infeasible design.
 file(WRITE ${tmp}/infeasible.yaml
-"environment:\n  - {name: rods, part: LongTensionRod}\nparts:\n  - {name: s, part: DoubleHook}\nconnections:\n  - connect: [s.hook1, rods.rod]\n")
-expect_run(3 "infeasible.yaml:6:5: error: s.hook1: hook opening 11.6 mm is smaller than rod radius 12.7 mm (rods.rod)"
+"fabkit: hacks/1\nenvironment:\n  - {name: rods, part: LongTensionRod}\nparts:\n  - {name: s, part: DoubleHook}\nconnections:\n  - connect: [s.hook1, rods.rod]\n")
+expect_run(3 "infeasible.yaml:7:5: error: s.hook1: hook opening 11.6 mm is smaller than rod radius 12.7 mm (rods.rod)"
            check ${tmp}/infeasible.yaml)
 
 # solve: 0 stable (and the outputs), 4 falls apart, 3 infeasible, 2 bad input.
@@ -58,4 +58,31 @@ expect_run(0 "wrote ${tmp}/demo/result.json" demo -o ${tmp}/demo)
 
 # serve: bad options are usage errors; a design that cannot be read is refused up front.
 expect_run(1 "" serve --port 70000)
-expect_run(2 "cannot open design file" serve ${tmp}/does-not-exist.yaml --port 0)
+expect_run(2 "cannot read design file" serve ${tmp}/does-not-exist.yaml --port 0)
+
+# The kit comes from the header: missing or unknown headers name the known kits.
+file(WRITE ${tmp}/noheader.yaml "environment:\n  - {name: e, part: CeilingHook}\n")
+expect_run(2 "noheader.yaml:1:1: error: the file has no 'fabkit:' header naming its kit; start it with one of: fabkit: hacks/1"
+           check ${tmp}/noheader.yaml)
+file(WRITE ${tmp}/badkit.yaml "fabkit: hackz/1\n")
+expect_run(2 "unknown kit 'hackz/1' in the fabkit: header; did you mean 'hacks'?" check ${tmp}/badkit.yaml)
+expect_run(2 "unknown kit" build ${tmp}/badkit.yaml -o ${tmp}/badkit)
+# build: for hacks, what solve -o does.
+expect_run(0 "verdict                     STABLE" build ${SOURCE_DIR}/examples/hacks/bird_feeder.yaml -o ${tmp}/built)
+foreach(f result.json scene.glb preview.svg assembly.stl assembly.obj)
+  if(NOT EXISTS ${tmp}/built/${f})
+    message(FATAL_ERROR "fabkit build -o did not write ${f}")
+  endif()
+endforeach()
+expect_run(1 "output" build ${SOURCE_DIR}/examples/hacks/bird_feeder.yaml)
+expect_run(4 "falls apart" build ${SOURCE_DIR}/examples/failing/hook_on_tilted_rod.yaml -o ${tmp}/tilted)
+# 5: an output that cannot be written (a file where the directory should be).
+file(WRITE ${tmp}/in_the_way "x")
+expect_run(5 "cannot create output directory" build ${SOURCE_DIR}/examples/hacks/bird_feeder.yaml -o ${tmp}/in_the_way)
+# Special files are refused, not read: a directory, a device that never ends.
+expect_run(2 "it is a directory" check ${SOURCE_DIR}/examples)
+if(EXISTS /dev/zero)
+  expect_run(2 "not a regular file" check /dev/zero)
+  expect_run(2 "not a regular file" serve /dev/zero --port 0)
+endif()
+expect_run(2 "cannot read part file" check ${SOURCE_DIR}/examples/hacks/bird_feeder.yaml --parts ${SOURCE_DIR}/examples)

@@ -1,146 +1,62 @@
-// The web editor's server: cpp-httplib, JSON by nlohmann. Every handler validates its input
-// and answers with JSON; nothing a client sends is ever used as a file name.
-#include "fabkit/server/editor_server.h"
-
-// The library (Eigen) before httplib: httplib pulls in <resolv.h>, whose `_res` macro breaks
-// Eigen's headers when they come after it. Kept out of include sorting for that reason.
-// clang-format off
-#include "fabkit/core/gltf.h"
-#include "fabkit/hacks/design_file.h"
-#include "fabkit/hacks/parts_library.h"
-#include "fabkit/hacks/solution_export.h"
-#include "fabkit/hacks/solve.h"
-
-#include <httplib.h>
-#include <nlohmann/json.hpp>
+// The web editor's server: cpp-httplib, JSON by nlohmann. The server owns what is common to
+// every kit (limits, error handling, static files, the design it was started with); each kit
+// adds its table of routes (kit_api.h). Nothing a client sends is ever used as a file name.
 #include <fmt/format.h>
 
-#include <chrono>
-// clang-format on
+#include "kit_api.h"
 
 namespace fabkit::server {
-namespace {
 
-using nlohmann::json;
-using namespace fabkit::hacks;
-
-json vec(const Vec3& v) {
-  return json::array({v.x(), v.y(), v.z()});
-}
-
-json frame_json(const Frame& f) {
-  const Frame n = f.normalized();
-  return {{"pos", vec(n.pos)}, {"rot", vec(n.rot)}};
-}
-
-json diagnostic_json(const Diagnostic& d) {
-  json j = {{"severity", std::string(to_string(d.severity))},
-            {"code", std::string(to_string(d.code))},
-            {"message", d.message}};
-  if (d.where.line > 0) j["line"] = d.where.line;
-  if (d.where.column > 0) j["column"] = d.where.column;
-  j["text"] = d.format();
-  return j;
-}
-
-json diagnostics_json(const Diagnostics& ds) {
-  json out = json::array();
-  for (const Diagnostic& d : ds) out.push_back(diagnostic_json(d));
-  return out;
-}
-
-json primitive_json(const Primitive& p) {
-  json shape = json::object();
-  for (std::string_view f : shape_field_names(p.type)) {
-    shape[std::string(f)] = shape_field_value(p.shape, f);
-  }
-  json params = json::array();
-  for (const ParamSpec& s : p.connector_params()) {
-    params.push_back({{"name", s.name},
-                      {"min", s.lo},
-                      {"max", s.hi},
-                      {"init", s.init},
-                      {"tag", std::string(to_string(s.tag))}});
-  }
-  json partners = json::array();
-  for (PrimitiveType t : allowed_partners(p.type)) partners.push_back(std::string(to_string(t)));
-  return {{"name", p.name},
-          {"type", std::string(to_string(p.type))},
-          {"connector", std::string(to_string(p.connector_kind()))},
-          {"description", p.describe()},
-          {"shape", shape},
-          {"frame", frame_json(p.frame)},
-          {"closed", p.closed_for_connect()},
-          {"single_connection", p.single_connection()},
-          {"critical_dim", p.critical_dim()},
-          {"connects_to", partners},
-          {"params", params}};
-}
-
-json mesh_json(const TriangleMesh& m) {
-  json v = json::array();
-  for (const Vec3& x : m.vertices) {
-    v.push_back(x.x());
-    v.push_back(x.y());
-    v.push_back(x.z());
-  }
-  json f = json::array();
-  for (const auto& t : m.faces) {
-    f.push_back(t[0]);
-    f.push_back(t[1]);
-    f.push_back(t[2]);
-  }
-  return {{"vertices", v}, {"faces", f}};
-}
-
-void reply(httplib::Response& res, int status, const json& body) {
+void reply(httplib::Response& res, int status, const Json& body) {
   res.status = status;
   // Input echoed in messages may not be UTF-8: replace bad bytes rather than fail.
-  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), "application/json");
+  res.set_content(dump_json(body), "application/json");
 }
 
 void reply_error(httplib::Response& res,
                  int status,
                  const std::string& message,
-                 const json& diagnostics = json::array()) {
-  reply(res, status, {{"error", message}, {"diagnostics", diagnostics}});
+                 const Json& diagnostics) {
+  reply(res, status, Json{{"error", message}, {"diagnostics", diagnostics}});
 }
 
-}  // namespace
+int http_status(const Diagnostics& diags) {
+  switch (diags.deciding_class().value_or(DiagnosticClass::kInternal)) {
+    case DiagnosticClass::kInput:
+      return 400;
+    case DiagnosticClass::kInfeasible:
+    case DiagnosticClass::kFallsApart:
+    case DiagnosticClass::kCheck:
+      return 422;
+    case DiagnosticClass::kTimeout:
+      return 503;
+    case DiagnosticClass::kIo:
+    case DiagnosticClass::kInternal:
+      return 500;
+  }
+  return 500;
+}
+
+std::string messages_of(const Diagnostics& d) {
+  std::string out;
+  for (const Diagnostic& x : d) {
+    if (x.severity == Severity::kError) out += (out.empty() ? "" : "\n") + x.message;
+  }
+  return out;
+}
 
 struct EditorServer::Impl {
   ServerOptions options;
   httplib::Server http;
   int port = -1;
 
-  Design load(const std::string& body,
-              const std::string& name,
-              std::chrono::steady_clock::time_point deadline) const {
-    DesignOptions o;
-    o.max_parts = options.max_parts;
-    o.verify.deadline = deadline;
-    return load_design_text(body, name, PartsLibrary::builtin(), o);
-  }
-
-  std::chrono::steady_clock::time_point deadline() const {
-    return std::chrono::steady_clock::now() +
-           std::chrono::milliseconds(static_cast<long long>(options.solve_timeout_s * 1000));
-  }
-
-  // 400 for input errors (the file cannot be understood), with every diagnostic.
-  static bool reject_input(const Design& d, httplib::Response& res) {
-    bool input_error = !d.readable;
-    for (const Diagnostic& x : d.diagnostics) input_error = input_error || is_input_error(x);
-    if (!input_error) return false;
-    std::string first = "the design cannot be read";
-    for (const Diagnostic& x : d.diagnostics) {
-      if (x.severity == Severity::kError) {
-        first = x.format();
-        break;
-      }
+  void add(const std::string& prefix, const ApiRoute& route) {
+    const std::string pattern = prefix + route.path;
+    if (route.method == ApiRoute::Method::kGet) {
+      http.Get(pattern, route.handler);
+    } else {
+      http.Post(pattern, route.handler);
     }
-    reply_error(res, 400, first, diagnostics_json(d.diagnostics));
-    return true;
   }
 
   void routes() {
@@ -148,187 +64,21 @@ struct EditorServer::Impl {
     // Small JSON answers: no Nagle delay (it added ~40 ms to every round trip).
     http.set_tcp_nodelay(true);
 
-    http.Get("/api/parts", [](const httplib::Request&, httplib::Response& res) {
-      json parts = json::array();
-      const PartsLibrary& lib = PartsLibrary::builtin();
-      for (const PartGenerator& g : lib.generators()) {
-        Diagnostics d;
-        const auto part = lib.make(g.name, {}, d);
-        if (!part) continue;
-        json prims = json::array();
-        for (const Primitive& p : part->primitives) prims.push_back(primitive_json(p));
-        json params = json::array();
-        for (const ParamSchema& s : g.params) {
-          params.push_back({{"name", s.name},
-                            {"default", s.default_value},
-                            {"min", s.min},
-                            {"max", s.max},
-                            {"unit", s.unit},
-                            {"doc", s.doc}});
-        }
-        parts.push_back({{"name", g.name},
-                         {"aliases", g.aliases},
-                         {"description", g.description},
-                         {"category", std::string(to_string(g.category))},
-                         {"mass", part->mass},
-                         {"params", params},
-                         {"primitives", prims}});
+    const ApiContext context{&options};
+    std::vector<KitApi> kits;
+    kits.push_back(hacks_api(context));
+    Json kit_names = Json::array();
+    for (const KitApi& kit : kits) {
+      kit_names.push_back(kit.kit);
+      for (const ApiRoute& route : kit.routes) {
+        add("/api/" + kit.kit + "/", route);
+        if (kit.also_at_root) add("/api/", route);
       }
-      reply(res, 200, parts);
+    }
+
+    http.Get("/api/kits", [kit_names](const httplib::Request&, httplib::Response& res) {
+      reply(res, 200, Json{{"kits", kit_names}});
     });
-
-    http.Get(
-        R"(/api/parts/([A-Za-z0-9_]{1,64})/mesh)",
-        [](const httplib::Request& req, httplib::Response& res) {
-          const std::string name = req.matches[1];
-          ParamValues values;
-          for (const auto& [key, value] : req.params) {
-            char* end = nullptr;
-            const double v = std::strtod(value.c_str(), &end);
-            if (end == value.c_str() || *end != '\0') {
-              reply_error(
-                  res, 400, fmt::format("parameter {} must be a number, not '{}'", key, value));
-              return;
-            }
-            values[key] = v;
-          }
-          Diagnostics d;
-          const auto part = PartsLibrary::builtin().make(name, values, d);
-          if (!part) {
-            const bool unknown = !PartsLibrary::builtin().find(name);
-            reply_error(res, unknown ? 404 : 400, messages_of(d), diagnostics_json(d));
-            return;
-          }
-          json prims = json::object();
-          for (const Primitive& p : part->primitives) prims[p.name] = mesh_json(primitive_mesh(p));
-          reply(
-              res,
-              200,
-              {{"name", part->type_name}, {"body", mesh_json(part->mesh)}, {"primitives", prims}});
-        });
-
-    // Two-way filtering: which of the candidate primitives can connect to the picked one
-    // (paper Table 1, closedness, sizes), each with the reason when not.
-    http.Post("/api/compatible", [](const httplib::Request& req, httplib::Response& res) {
-      json body;
-      try {
-        body = json::parse(req.body);
-      } catch (const json::exception& e) {
-        reply_error(res, 400, fmt::format("the request is not JSON: {}", e.what()));
-        return;
-      }
-      auto primitive_of =
-          [&](const json& j, std::shared_ptr<Part>& part, int& index, std::string& why) {
-            if (!j.is_object() || !j.contains("part") || !j["part"].is_string() ||
-                !j.contains("primitive") || !j["primitive"].is_string()) {
-              why = "each primitive is {\"part\": name, \"primitive\": name, \"params\": {...}}";
-              return false;
-            }
-            ParamValues values;
-            if (j.contains("params") && j["params"].is_object()) {
-              for (const auto& [k, v] : j["params"].items()) {
-                if (!v.is_number()) {
-                  why = fmt::format("parameter {} must be a number", k);
-                  return false;
-                }
-                values[k] = v.get<double>();
-              }
-            }
-            Diagnostics d;
-            part = PartsLibrary::builtin().make(j["part"].get<std::string>(), values, d);
-            if (!part) {
-              why = messages_of(d);
-              return false;
-            }
-            index = part->find_primitive(j["primitive"].get<std::string>());
-            if (index < 0) {
-              why = fmt::format("{} has no primitive '{}' (it has {})",
-                                part->type_name,
-                                j["primitive"].get<std::string>(),
-                                part->primitive_list());
-              return false;
-            }
-            return true;
-          };
-      if (!body.is_object() || !body.contains("a") || !body.contains("b") ||
-          !body["b"].is_array()) {
-        reply_error(res, 400, "expected {\"a\": primitive, \"b\": [primitive, ...]}");
-        return;
-      }
-      if (body["b"].size() > 5000) {
-        reply_error(res, 400, "at most 5000 candidates per request");
-        return;
-      }
-      std::shared_ptr<Part> pa;
-      int ia = -1;
-      std::string why;
-      if (!primitive_of(body["a"], pa, ia, why)) {
-        reply_error(res, 400, why);
-        return;
-      }
-      json out = json::array();
-      for (const json& jb : body["b"]) {
-        std::shared_ptr<Part> pb;
-        int ib = -1;
-        if (!primitive_of(jb, pb, ib, why)) {
-          out.push_back({{"ok", false}, {"reason", why}});
-          continue;
-        }
-        const Primitive& a = pa->primitives[static_cast<std::size_t>(ia)];
-        const Primitive& b = pb->primitives[static_cast<std::size_t>(ib)];
-        const std::string la = fmt::format("{}.{}", pa->type_name, a.name);
-        const std::string lb = fmt::format("{}.{}", pb->type_name, b.name);
-        if (!pair_allowed(a.type, b.type)) {
-          out.push_back({{"ok", false},
-                         {"reason",
-                          fmt::format("a {} cannot connect to a {} (paper Table 1)",
-                                      to_string(a.type),
-                                      to_string(b.type))}});
-          continue;
-        }
-        Diagnostics d;
-        const bool ok =
-            check_compatibility({&a, la, a.critical_dim()}, {&b, lb, b.critical_dim()}, d);
-        out.push_back({{"ok", ok}, {"reason", ok ? "" : messages_of(d)}});
-      }
-      reply(res, 200, out);
-    });
-
-    // Geometry of a loose primitive (an environment made of primitives, e.g. a table
-    // surface): the primitive's own coordinates, sizes from the query (mm, degrees).
-    http.Get(
-        R"(/api/primitives/([a-z]{3,12})/mesh)",
-        [](const httplib::Request& req, httplib::Response& res) {
-          const auto type = primitive_type_from_string(req.matches[1].str());
-          if (!type) {
-            reply_error(res, 404, fmt::format("unknown primitive type '{}'", req.matches[1].str()));
-            return;
-          }
-          Primitive p = Primitive::make(std::string(to_string(*type)), *type, {});
-          for (const auto& [key, value] : req.params) {
-            double* field = shape_field(p.shape, key);
-            const auto names = shape_field_names(*type);
-            if (!field || std::find(names.begin(), names.end(), key) == names.end()) {
-              reply_error(res, 400, fmt::format("a {} has no size '{}'", to_string(*type), key));
-              return;
-            }
-            char* end = nullptr;
-            *field = std::strtod(value.c_str(), &end);
-            if (end == value.c_str() || *end != '\0') {
-              reply_error(res, 400, fmt::format("{} must be a number, not '{}'", key, value));
-              return;
-            }
-          }
-          Diagnostics d;
-          p.validate(to_string(*type), d);
-          if (d.has_errors()) {
-            reply_error(res, 400, messages_of(d), diagnostics_json(d));
-            return;
-          }
-          reply(res,
-                200,
-                {{"type", std::string(to_string(*type))}, {"mesh", mesh_json(primitive_mesh(p))}});
-        });
 
     http.Get("/api/design", [this](const httplib::Request&, httplib::Response& res) {
       if (options.initial_design.empty()) {
@@ -336,75 +86,6 @@ struct EditorServer::Impl {
         return;
       }
       res.set_content(options.initial_design, "application/x-yaml");
-    });
-
-    http.Post("/api/check", [this](const httplib::Request& req, httplib::Response& res) {
-      const Design d = load(req.body, "design.yaml", deadline());
-      if (reject_input(d, res)) return;
-      json steps = json::array();
-      for (const DesignStep& s : d.steps) {
-        json step = {{"text", s.text},
-                     {"line", s.where.line},
-                     {"accepted", s.accepted},
-                     {"skipped", s.skipped},
-                     {"closes_cycle", s.report.closes_cycle},
-                     {"cycles", s.report.cycles},
-                     {"milliseconds", s.report.milliseconds},
-                     {"diagnostics", diagnostics_json(s.report.diagnostics)}};
-        if (!s.accepted && !s.report.best_part_frames.empty()) {
-          // How close a cycle came: the best configuration found, one frame per part.
-          json frames = json::array();
-          for (const Frame& f : s.report.best_part_frames) frames.push_back(frame_json(f));
-          step["best_part_frames"] = frames;
-        }
-        steps.push_back(step);
-      }
-      json parts = json::array();
-      const std::vector<Mat4> frames = d.assembly.part_frames(d.assembly.values());
-      for (int i = 0; i < d.assembly.part_count(); ++i) {
-        parts.push_back(
-            {{"name", d.assembly.label(PartId{i})},
-             {"type", d.assembly.node(PartId{i}).part->type_name},
-             {"frame", frame_json(Frame::from_matrix(frames[static_cast<std::size_t>(i)]))}});
-      }
-      reply(res,
-            200,
-            {{"valid", d.feasible()},
-             {"steps", steps},
-             {"parts", parts},
-             {"diagnostics", diagnostics_json(d.diagnostics)}});
-    });
-
-    http.Post("/api/solve", [this](const httplib::Request& req, httplib::Response& res) {
-      const auto limit = deadline();
-      const Design d = load(req.body, "design.yaml", limit);
-      if (reject_input(d, res)) return;
-      if (!d.feasible()) {
-        reply_error(res, 422, "the design cannot be built", diagnostics_json(d.diagnostics));
-        return;
-      }
-      SolveOptions so;
-      so.deadline = limit;
-      const SolveResult r = solve(d.assembly, so);
-      if (r.termination == Termination::kTimeout) {
-        reply_error(res,
-                    503,
-                    fmt::format("the solve took longer than {:g} s and was stopped",
-                                options.solve_timeout_s));
-        return;
-      }
-      if (req.has_param("format") && req.get_param_value("format") == "glb") {
-        Diagnostics dg;
-        const std::optional<std::string> bytes = encode_glb(solution_scene(d.assembly, r), dg);
-        if (!bytes) {
-          reply_error(res, 500, "cannot encode the scene", diagnostics_json(dg));
-          return;
-        }
-        res.set_content(*bytes, "model/gltf-binary");
-        return;
-      }
-      res.status = 200;
-      res.set_content(result_json(d.assembly, r, d.name), "application/json");
     });
 
     // Errors thrown by a handler become a 500 with a message, never a dead server.
@@ -432,14 +113,6 @@ struct EditorServer::Impl {
       // root are ever served.
       http.set_mount_point("/", options.web_root.string());
     }
-  }
-
-  static std::string messages_of(const Diagnostics& d) {
-    std::string out;
-    for (const Diagnostic& x : d) {
-      if (x.severity == Severity::kError) out += (out.empty() ? "" : "\n") + x.message;
-    }
-    return out;
   }
 };
 

@@ -1,6 +1,7 @@
 #pragma once
 /// The local HTTP server behind the web editor: static files plus a JSON API over the library.
 ///
+///   GET  /api/kits                  the kits this server answers for
 ///   GET  /api/parts                 the parts library: names, descriptions, primitives
 ///   GET  /api/parts/{name}/mesh     display geometry of a part (query: its parameters)
 ///   GET  /api/design                the design the server was started with (YAML), or 404
@@ -8,6 +9,9 @@
 ///   POST /api/solve                 body: a design (YAML) → result.json (?format=glb: scene.glb)
 ///   POST /api/compatible            body: {"a": primitive, "b": [primitive...]} → can each connect
 ///                                   to a (Table 1, closedness, sizes) and why not
+///
+/// Each kit's routes live under /api/<kit>/ (/api/hacks/check, ...); the hacks kit's also at the
+/// paths above.
 ///
 /// Safe by default: loopback only unless another host is given, request bodies and designs are
 /// capped, every input is validated (HTTP 400 with the diagnostic), solves stop at a deadline,
@@ -28,6 +32,7 @@ struct ServerOptions {
   std::string initial_design_name;       ///< its file name, for diagnostics
   std::size_t max_body_bytes = 1 << 20;  ///< larger requests get 413
   int max_parts = 500;                   ///< larger designs get 400
+  int max_connections = 2000;            ///< designs with more connections get 400
   double solve_timeout_s = 20;           ///< a solve that runs longer stops with 503
 };
 
