@@ -3,7 +3,8 @@
 import itertools
 import os
 
-from . import _fabkit as _k
+from ._fabkit import Error
+from ._fabkit import hacks as _k
 
 
 class Variant:
@@ -44,7 +45,7 @@ def sweep(build, grid, threads=None, progress=True):
     for p in combos:
         try:
             a = build(**p)
-        except _k.Error as e:
+        except Error as e:
             rejected.append((p, str(e)))
             continue
         if a is None or not hasattr(a, "_assembly"):

@@ -16,7 +16,7 @@ Every ``connect`` is verified as it is made; a connection that cannot be made ra
 ``fabkit.ConnectError`` with the reason (parts, primitives, numbers).
 """
 
-from . import _fabkit as _k
+from ._fabkit import hacks as _k
 from ._fabkit import ConnectError, Error, Frame
 from ._sweep import sweep
 

@@ -82,7 +82,7 @@ def test_misuse_raises_type_and_value_errors():
         hook.hook3
     with pytest.raises(ValueError, match="extended_length"):
         ParamTurnbuckle({"extended_length": -5})
-    with pytest.raises(ValueError, match="unknown parameter 'colour'"):
+    with pytest.raises(ValueError, match="unknown key 'colour'"):
         Rod({"colour": 3})
     with pytest.raises(TypeError):
         Rod({"radius": "thick"})

@@ -1,0 +1,432 @@
+// The hacks kit in Python (_fabkit.hacks; fabkit/hacks.py builds the paper's API on it).
+#include <fmt/format.h>
+#include <pybind11/functional.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "convert.h"
+#include "errors.h"
+#include "fabkit/core/file_io.h"
+#include "fabkit/hacks/assembly.h"
+#include "fabkit/hacks/parts_library.h"
+#include "fabkit/hacks/primitive_spec.h"
+#include "fabkit/hacks/solution_export.h"
+#include "fabkit/hacks/solve.h"
+#include "kits.h"
+
+namespace py = pybind11;
+using namespace fabkit;
+using namespace fabkit::hacks;
+using fabkit::python::messages;
+using fabkit::python::raise;
+using fabkit::python::to_vec3;
+
+namespace {
+
+ParamValues to_params(const py::object& o, const std::string& who) {
+  ParamValues values;
+  if (o.is_none()) return values;
+  if (!py::isinstance<py::dict>(o)) {
+    throw py::type_error(fmt::format("{} takes a dict of parameters, like {{\"radius\": 5}}", who));
+  }
+  for (auto [k, v] : py::reinterpret_borrow<py::dict>(o)) {
+    if (!py::isinstance<py::str>(k))
+      throw py::type_error(fmt::format("{}: parameter names are strings", who));
+    try {
+      values[k.cast<std::string>()] = v.cast<double>();
+    } catch (const py::cast_error&) {
+      throw py::type_error(
+          fmt::format("{}: parameter '{}' must be a number", who, k.cast<std::string>()));
+    }
+  }
+  return values;
+}
+
+// A loose primitive (Surface({...}) before it belongs to a part).
+struct LoosePrimitive {
+  Primitive primitive;
+};
+
+// A Python value as a YAML node, so the one primitive-spec parser reads Python specs too.
+YAML::Node to_yaml(const py::handle& h, const std::string& where) {
+  if (py::isinstance<py::bool_>(h)) return YAML::Node(h.cast<bool>() ? "true" : "false");
+  if (py::isinstance<py::int_>(h) || py::isinstance<py::float_>(h)) {
+    return YAML::Node(fmt::format("{:.17g}", h.cast<double>()));
+  }
+  if (py::isinstance<py::str>(h)) {
+    throw py::type_error(fmt::format("{}: sizes and flags are numbers and booleans, not the text "
+                                     "'{}'",
+                                     where,
+                                     h.cast<std::string>()));
+  }
+  if (py::isinstance<py::dict>(h)) {
+    YAML::Node map(YAML::NodeType::Map);
+    for (auto [k, v] : py::reinterpret_borrow<py::dict>(h)) {
+      if (!py::isinstance<py::str>(k)) throw py::type_error(where + ": keys must be strings");
+      map[k.cast<std::string>()] = to_yaml(v, where);
+    }
+    return map;
+  }
+  if (py::isinstance<Frame>(h)) {
+    const Frame f = h.cast<Frame>();
+    YAML::Node map(YAML::NodeType::Map);
+    for (int i = 0; i < 3; ++i) {
+      map["pos"].push_back(fmt::format("{:.17g}", f.pos[i]));
+      map["rot"].push_back(fmt::format("{:.17g}", f.rot[i]));
+    }
+    return map;
+  }
+  if (py::isinstance<py::sequence>(h)) {
+    YAML::Node seq(YAML::NodeType::Sequence);
+    for (auto item : py::reinterpret_borrow<py::sequence>(h)) seq.push_back(to_yaml(item, where));
+    return seq;
+  }
+  throw py::type_error(fmt::format("{}: values must be numbers, booleans, lists or a Frame, not {}",
+                                   where,
+                                   py::str(py::type::of(h).attr("__name__")).cast<std::string>()));
+}
+
+LoosePrimitive make_primitive(const std::string& type_name, const py::object& params) {
+  if (!params.is_none() && !py::isinstance<py::dict>(params)) {
+    throw py::type_error(
+        fmt::format("{} takes a dict of sizes, like {{\"radius\": 5}}", type_name));
+  }
+  YAML::Node spec = params.is_none() ? YAML::Node(YAML::NodeType::Map) : to_yaml(params, type_name);
+  spec["type"] = type_name;
+  Diagnostics d;
+  YamlReader in(type_name, d);
+  PrimitiveSpecOptions options;
+  options.reference_defaults = true;
+  auto p = read_primitive_spec(in, spec, "", type_name, options);
+  if (!p) python::raise_diagnostics(d);
+  p->name = std::string(to_string(p->type));
+  return {*p};
+}
+
+std::shared_ptr<Part> make_part(const std::string& name, const py::object& params) {
+  Diagnostics d;
+  auto part = PartsLibrary::builtin().make(name, to_params(params, name), d);
+  if (!part) throw py::value_error(messages(d));
+  return part;
+}
+
+std::shared_ptr<Part> environment_from_primitives(
+    const std::vector<std::pair<std::string, LoosePrimitive>>& items) {
+  if (items.empty()) throw py::value_error("Environment({...}) needs at least one entry");
+  std::vector<Primitive> prims;
+  for (const auto& [name, loose] : items) {
+    Primitive p = loose.primitive;
+    p.name = name;
+    prims.push_back(p);
+  }
+  return std::make_shared<Part>(make_primitive_part(std::move(prims)));
+}
+
+PrimitiveRef primitive_of(const std::shared_ptr<Part>& part, const std::string& name) {
+  PrimitiveRef ref(part, name);
+  if (!ref.valid()) {
+    throw py::attribute_error(fmt::format(
+        "{} has no primitive '{}' (it has {})", part->type_name, name, part->primitive_list()));
+  }
+  return ref;
+}
+
+Frame to_frame(const py::object& o) {
+  if (o.is_none()) return Frame();
+  try {
+    return o.cast<Frame>();
+  } catch (const py::cast_error&) {
+    throw py::type_error("expected a Frame, like Frame([0, 0, 100], [0, 0, 90])");
+  }
+}
+
+// The reference's target is a part's first primitive or a named one.
+PrimitiveRef to_ref(const py::object& o, const char* what) {
+  if (py::isinstance<PrimitiveRef>(o)) return o.cast<PrimitiveRef>();
+  if (py::isinstance<Part>(o)) {
+    auto part = o.cast<std::shared_ptr<Part>>();
+    return PrimitiveRef(part, 0);
+  }
+  throw py::type_error(fmt::format("{} takes a primitive such as part.hook1 (or a part), not {}",
+                                   what,
+                                   py::str(py::type::of(o).attr("__name__")).cast<std::string>()));
+}
+
+// A solve's result, with the assembly it came from (for the exporters).
+struct Solved {
+  std::shared_ptr<const Assembly> assembly;
+  SolveResult result;
+};
+
+Solved solve_one(const Assembly& a) {
+  Solved s;
+  s.assembly = std::make_shared<const Assembly>(a);
+  s.result = solve(*s.assembly);
+  return s;
+}
+
+void export_or_raise(const Solved& s, const std::function<bool(Diagnostics&)>& f) {
+  Diagnostics d;
+  if (!f(d)) python::raise_diagnostics(d);
+}
+
+}  // namespace
+
+void fabkit::python::bind_hacks(py::module_ m) {
+  py::class_<LoosePrimitive>(m, "Primitive", "A connector primitive not yet part of a part")
+      .def_property_readonly(
+          "type", [](const LoosePrimitive& p) { return std::string(to_string(p.primitive.type)); })
+      .def("__repr__", [](const LoosePrimitive& p) { return p.primitive.describe(); });
+  m.def("make_primitive", &make_primitive, py::arg("type"), py::arg("params") = py::none());
+
+  py::class_<PrimitiveRef>(m, "PrimitiveRef", "A primitive of a part, e.g. part.hook1")
+      .def_property_readonly("name", [](const PrimitiveRef& r) { return r.primitive().name; })
+      .def_property_readonly("part", [](const PrimitiveRef& r) { return r.part; })
+      .def_property_readonly(
+          "type", [](const PrimitiveRef& r) { return std::string(to_string(r.primitive().type)); })
+      .def("__repr__", [](const PrimitiveRef& r) {
+        return fmt::format(
+            "<{}.{}: {}>", r.part->type_name, r.primitive().name, r.primitive().describe());
+      });
+
+  py::class_<Part, std::shared_ptr<Part>>(m, "Part", "A part from the library")
+      .def_property_readonly("type_name", [](const Part& p) { return p.type_name; })
+      .def_property_readonly("mass", [](const Part& p) { return p.mass; })
+      .def_property_readonly("primitives",
+                             [](const Part& p) {
+                               std::vector<std::string> names;
+                               for (const Primitive& x : p.primitives) names.push_back(x.name);
+                               return names;
+                             })
+      .def("primitive", &primitive_of)
+      .def("__getattr__",
+           [](const std::shared_ptr<Part>& p, const std::string& name) {
+             if (name.rfind("__", 0) == 0) throw py::attribute_error(name);
+             return primitive_of(p, name);
+           })
+      .def("__repr__", [](const Part& p) {
+        return fmt::format("<{} with {}>", p.type_name, p.primitive_list());
+      });
+
+  m.def("make_part", &make_part, py::arg("name"), py::arg("params") = py::none());
+  m.def("part_names", [] {
+    std::vector<std::string> names;
+    for (const PartGenerator& g : PartsLibrary::builtin().generators()) {
+      names.push_back(g.name);
+      for (const auto& a : g.aliases) names.push_back(a);
+    }
+    return names;
+  });
+  m.def("environment_from_primitives", &environment_from_primitives);
+
+  py::class_<Assembly>(m, "Assembly")
+      .def(py::init<>())
+      .def("add",
+           [](Assembly& a, const py::object& env, const py::object& frame) {
+             ConnectReport r;
+             if (py::isinstance<PrimitiveRef>(env)) {
+               r = a.add(env.cast<PrimitiveRef>(), to_frame(frame));
+             } else if (py::isinstance<Part>(env)) {
+               r = a.add(env.cast<std::shared_ptr<Part>>(), to_frame(frame));
+             } else {
+               throw py::type_error(
+                   "add() takes an environment part (or one of its primitives) and a Frame");
+             }
+             if (!r.accepted) python::raise_diagnostics(r.diagnostics);
+           })
+      .def(
+          "connect",
+          [](Assembly& a,
+             const py::object& p1,
+             const py::object& p2,
+             const std::string& alignment,
+             bool is_fixed) {
+            if (!py::isinstance<PrimitiveRef>(p1) || !py::isinstance<PrimitiveRef>(p2)) {
+              const py::object& bad = py::isinstance<PrimitiveRef>(p1) ? p2 : p1;
+              if (py::isinstance<Part>(bad)) {
+                auto part = bad.cast<std::shared_ptr<Part>>();
+                throw py::type_error(fmt::format(
+                    "connect() takes two primitives; {} is a part: name one of its primitives ({})",
+                    part->type_name,
+                    part->primitive_list()));
+              }
+              throw py::type_error(
+                  "connect() takes two primitives, such as eyehook.hook and basket.hook");
+            }
+            const auto choice = alignment_choice_from_string(alignment);
+            if (!choice) {
+              throw py::value_error(
+                  fmt::format("alignment must be \"default\" or \"flip\", not \"{}\"", alignment));
+            }
+            ConnectOptions o;
+            o.alignment = *choice;
+            o.fixed = is_fixed;
+            const ConnectReport r = a.connect(p1.cast<PrimitiveRef>(), p2.cast<PrimitiveRef>(), o);
+            if (!r.accepted) {
+              if (r.diagnostics.deciding_class() == DiagnosticClass::kInput) {
+                python::raise_diagnostics(r.diagnostics);
+              }
+              raise(python::errors().connect, messages(r.diagnostics));
+            }
+            return r.closes_cycle;
+          },
+          py::arg("a"),
+          py::arg("b"),
+          py::arg("alignment") = "default",
+          py::arg("is_fixed") = false)
+      .def("end_with",
+           [](Assembly& a, const py::object& target, const py::object& frame) {
+             const Diagnostics d =
+                 py::isinstance<Part>(target)
+                     ? a.end_with(target.cast<std::shared_ptr<Part>>(), to_frame(frame))
+                     : a.end_with(to_ref(target, "end_with()"), to_frame(frame));
+             if (d.has_errors()) python::raise_diagnostics(d);
+           })
+      .def_property_readonly("part_count", &Assembly::part_count)
+      .def("solve", [](const Assembly& a) {
+        py::gil_scoped_release release;
+        return solve_one(a);
+      });
+
+  py::class_<Solved>(m, "SolveResult")
+      .def_property_readonly("stable", [](const Solved& s) { return s.result.stable; })
+      .def_property_readonly("feasible", [](const Solved& s) { return s.result.feasible; })
+      .def_property_readonly("target_error",
+                             [](const Solved& s) {
+                               return py::make_tuple(s.result.target.position_mm,
+                                                     s.result.target.rotation_deg);
+                             })
+      .def_property_readonly("step1_target_error",
+                             [](const Solved& s) {
+                               return py::make_tuple(s.result.target_step1.position_mm,
+                                                     s.result.target_step1.rotation_deg);
+                             })
+      .def_property_readonly("frames",
+                             [](const Solved& s) {
+                               py::dict d;
+                               for (const SolvedPart& p : s.result.parts)
+                                 d[py::str(p.name)] = p.frame.normalized();
+                               return d;
+                             })
+      .def_property_readonly("part_types",
+                             [](const Solved& s) {
+                               std::vector<std::string> t;
+                               for (const SolvedPart& p : s.result.parts) t.push_back(p.type);
+                               return t;
+                             })
+      .def_property_readonly("slipping",
+                             [](const Solved& s) {
+                               std::vector<std::string> out;
+                               for (const Slip& x : s.result.slips) out.push_back(x.message);
+                               return out;
+                             })
+      .def_property_readonly("timings_ms",
+                             [](const Solved& s) {
+                               py::dict d;
+                               for (const StageTiming& t : s.result.timings)
+                                 d[py::str(t.stage)] = t.milliseconds;
+                               return d;
+                             })
+      .def_property_readonly("message", [](const Solved& s) { return s.result.message; })
+      .def("summary", [](const Solved& s) { return s.result.summary(); })
+      .def(
+          "to_json",
+          [](const Solved& s, const std::string& name) {
+            return result_json(*s.assembly, s.result, name);
+          },
+          py::arg("design_name") = "")
+      .def(
+          "save_json",
+          [](const Solved& s, const std::filesystem::path& path, const std::string& name) {
+            export_or_raise(s, [&](Diagnostics& d) {
+              return write_file_atomically(path, result_json(*s.assembly, s.result, name), d);
+            });
+          },
+          py::arg("path"),
+          py::arg("design_name") = "")
+      .def("save_glb",
+           [](const Solved& s, const std::filesystem::path& path) {
+             export_or_raise(s, [&](Diagnostics& d) {
+               return write_glb(solution_scene(*s.assembly, s.result), path, d);
+             });
+           })
+      .def(
+          "save_all",
+          [](const Solved& s, const std::filesystem::path& dir, const std::string& name) {
+            export_or_raise(s, [&](Diagnostics& d) {
+              ExportOptions o;
+              o.design_name = name;
+              return export_solution(*s.assembly, s.result, dir, d, o);
+            });
+          },
+          py::arg("directory"),
+          py::arg("design_name") = "")
+      .def("__repr__", [](const Solved& s) {
+        return fmt::format("<SolveResult {} target error {:.2f} mm, {:.2f}°>",
+                           s.result.message,
+                           s.result.target.position_mm,
+                           s.result.target.rotation_deg);
+      });
+
+  // Many assemblies at once, on C++ threads with the GIL released; draws a progress bar on
+  // stderr when asked.
+  m.def(
+      "solve_many",
+      [](const std::vector<Assembly*>& assemblies, int threads, bool progress) {
+        for (const Assembly* a : assemblies) {
+          if (!a) throw py::type_error("solve_many() takes a list of Assembly objects");
+        }
+        std::vector<Solved> results(assemblies.size());
+        {
+          py::gil_scoped_release release;
+          const int n = static_cast<int>(assemblies.size());
+          const int workers =
+              std::max(1,
+                       std::min(threads > 0 ? threads
+                                            : static_cast<int>(std::thread::hardware_concurrency()),
+                                n));
+          std::atomic<int> next{0};
+          std::atomic<int> done{0};
+          std::vector<std::thread> pool;
+          for (int w = 0; w < workers; ++w) {
+            pool.emplace_back([&] {
+              for (int i = next++; i < n; i = next++) {
+                results[static_cast<std::size_t>(i)] =
+                    solve_one(*assemblies[static_cast<std::size_t>(i)]);
+                ++done;
+              }
+            });
+          }
+          auto draw = [&](int k) {
+            const int width = 30;
+            const int filled = n ? k * width / n : width;
+            std::fprintf(stderr,
+                         "\rsolving [%s%s] %d/%d",
+                         std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                         std::string(static_cast<std::size_t>(width - filled), ' ').c_str(),
+                         k,
+                         n);
+            std::fflush(stderr);
+          };
+          if (progress) {
+            while (done.load() < n) {
+              draw(done.load());
+              std::this_thread::sleep_for(std::chrono::milliseconds(50));
+            }
+            draw(n);
+            std::fprintf(stderr, "\n");
+          }
+          for (std::thread& t : pool) t.join();
+        }
+        return results;
+      },
+      py::arg("assemblies"),
+      py::arg("threads") = 0,
+      py::arg("progress") = false);
+}
