@@ -60,10 +60,11 @@ YAML::Node to_yaml(const py::handle& h, const std::string& where) {
     return YAML::Node(fmt::format("{:.17g}", h.cast<double>()));
   }
   if (py::isinstance<py::str>(h)) {
-    throw py::type_error(fmt::format("{}: sizes and flags are numbers and booleans, not the text "
-                                     "'{}'",
-                                     where,
-                                     h.cast<std::string>()));
+    throw py::type_error(
+        fmt::format("{}: sizes and flags are numbers and booleans, not the text "
+                    "'{}'",
+                    where,
+                    h.cast<std::string>()));
   }
   if (py::isinstance<py::dict>(h)) {
     YAML::Node map(YAML::NodeType::Map);
