@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <set>
 
 #include "constraints.h"
 #include "cycle_closure.h"
 #include "distance_bounds.h"
+#include "fabkit/core/yaml_reader.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 
 namespace fabkit::hacks {
@@ -38,22 +40,22 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 
 PrimitiveRef::PrimitiveRef(std::shared_ptr<Part> p, std::string_view name)
     : part(std::move(p)), requested(name) {
-  index = part ? part->find_primitive(name) : -1;
+  if (part) index = part->find_primitive(name);
 }
 
 bool PrimitiveRef::valid() const {
-  return part && index >= 0 && index < static_cast<int>(part->primitives.size());
+  return part && index.valid() && index.index() < part->primitives.size();
 }
 
 std::optional<PartId> Assembly::find(const Part* part) const {
   for (std::size_t i = 0; i < parts_.size(); ++i) {
-    if (parts_[i].part.get() == part) return PartId{static_cast<int>(i)};
+    if (parts_[i].source.get() == part) return PartId{static_cast<int>(i)};
   }
   return std::nullopt;
 }
 
 std::string Assembly::label(PartId id) const {
-  const Part& p = *parts_.at(static_cast<std::size_t>(id.value)).part;
+  const Part& p = *parts_.at(id.index()).part;
   if (!p.instance_name.empty()) return p.instance_name;
   int rank = 0;
   int count = 0;
@@ -66,37 +68,72 @@ std::string Assembly::label(PartId id) const {
   return count > 1 ? fmt::format("{}#{}", p.type_name, rank) : p.type_name;
 }
 
-std::string Assembly::label(PartId id, int primitive) const {
-  const Part& p = *parts_.at(static_cast<std::size_t>(id.value)).part;
-  return fmt::format("{}.{}", label(id), p.primitives.at(static_cast<std::size_t>(primitive)).name);
+std::string Assembly::label(PartId id, PrimitiveId primitive) const {
+  const Part& p = *parts_.at(id.index()).part;
+  return fmt::format("{}.{}", label(id), p.primitive(primitive).name);
 }
 
-PartId Assembly::insert_part(std::shared_ptr<Part> part, bool environment, const Frame& frame) {
+PartId Assembly::insert_part(const std::shared_ptr<Part>& part,
+                             bool environment,
+                             const Frame& frame,
+                             PartId parent_part,
+                             ConnectionId parent) {
   PartNode n;
-  n.part = std::move(part);
+  n.part = std::make_shared<const Part>(*part);
+  n.source = part;
   n.environment = environment;
   n.frame = frame;
   n.placement = Rigid<double>::from_matrix(frame.matrix());
-  parts_.push_back(n);
+  parts_.push_back(std::move(n));
+  const PartId id = parent.valid() ? graph_.add_child(parent_part, parent) : graph_.add_root();
   std::vector<PrimitiveState> states;
   for (const Primitive& prim : parts_.back().part->primitives) {
     states.push_back({prim.critical_dim(), 0});
   }
   primitive_state_.push_back(std::move(states));
-  return PartId{static_cast<int>(parts_.size()) - 1};
+  return id;
 }
 
-Connector Assembly::make_connector(PartId part, int primitive, std::vector<ParamSpec> params) {
+Connector Assembly::make_connector(PartId part,
+                                   PrimitiveId primitive,
+                                   std::vector<ParamSpec> params) {
   Connector c;
   c.part = part;
   c.primitive = primitive;
   c.offset = static_cast<int>(values_.size());
   c.params = std::move(params);
-  c.base = Rigid<double>::from_matrix(parts_[static_cast<std::size_t>(part.value)]
-                                          .part->primitives[static_cast<std::size_t>(primitive)]
-                                          .frame.matrix());
+  c.base =
+      Rigid<double>::from_matrix(parts_[part.index()].part->primitive(primitive).frame.matrix());
   return c;
 }
+
+namespace {
+
+bool finite_frame(const Frame& f) {
+  for (int i = 0; i < 3; ++i) {
+    if (!std::isfinite(f.pos[i]) || !std::isfinite(f.rot[i])) return false;
+  }
+  return true;
+}
+
+// Positions beyond this are a unit mistake (mm), as in design files (core/yaml_reader.h).
+bool sane_frame(const Frame& f) {
+  return finite_frame(f) && f.pos.cwiseAbs().maxCoeff() <= kMaxCoordinateMm &&
+         f.rot.cwiseAbs().maxCoeff() <= 36000;
+}
+
+std::string frame_problem(std::string_view what, const Frame& f) {
+  if (!finite_frame(f))
+    return fmt::format("{}: frame {} has a non-finite value", what, f.to_string());
+  return fmt::format(
+      "{}: frame {} is absurd: positions are in mm and may be at most {:g} mm "
+      "(1 km) from the origin",
+      what,
+      f.to_string(),
+      kMaxCoordinateMm);
+}
+
+}  // namespace
 
 ConnectReport Assembly::add(std::shared_ptr<Part> environment,
                             const Frame& frame,
@@ -107,15 +144,11 @@ ConnectReport Assembly::add(std::shared_ptr<Part> environment,
     return report;
   }
   report.description = fmt::format("add {}", environment->type_name);
-  for (int i = 0; i < 3; ++i) {
-    if (!std::isfinite(frame.pos[i]) || !std::isfinite(frame.rot[i])) {
-      report.diagnostics.error(
-          codes::kInvalidValue,
-          fmt::format(
-              "add {}: frame {} has a non-finite value", environment->type_name, frame.to_string()),
-          where);
-      return report;
-    }
+  if (!sane_frame(frame)) {
+    report.diagnostics.error(codes::kInvalidValue,
+                             frame_problem(fmt::format("add {}", environment->type_name), frame),
+                             where);
+    return report;
   }
   if (find(environment.get())) {
     report.diagnostics.error(
@@ -124,7 +157,7 @@ ConnectReport Assembly::add(std::shared_ptr<Part> environment,
         where);
     return report;
   }
-  const PartId id = insert_part(std::move(environment), true, frame);
+  const PartId id = insert_part(environment, true, frame);
   report.description = fmt::format("add {} at {}", label(id), frame.to_string());
   report.accepted = true;
   return report;
@@ -146,9 +179,43 @@ ConnectReport Assembly::add(const PrimitiveRef& primitive,
     return report;
   }
   if (primitive.part->primitives.size() == 1) return add(primitive.part, frame, where);
-  // Only this primitive moves: the environment part itself stays at the origin.
-  primitive.part->primitives[static_cast<std::size_t>(primitive.index)].frame = frame;
-  return add(primitive.part, Frame(), where);
+  // A loose-primitive environment placed one primitive at a time (paper App. B.2): the part
+  // sits at the origin and each primitive at its own frame, in the assembly's copy.
+  ConnectReport report;
+  const std::string who =
+      fmt::format("add {}.{}", primitive.part->type_name, primitive.primitive().name);
+  report.description = who;
+  if (!sane_frame(frame)) {
+    report.diagnostics.error(codes::kInvalidValue, frame_problem(who, frame), where);
+    return report;
+  }
+  std::optional<PartId> id = find(primitive.part.get());
+  if (id && !parts_[id->index()].environment) {
+    report.diagnostics.error(codes::kDuplicateName,
+                             fmt::format("{}: {} is already in the assembly as a part, not an "
+                                         "environment",
+                                         who,
+                                         label(*id)),
+                             where);
+    return report;
+  }
+  if (!id) {
+    id = insert_part(primitive.part, true, Frame());
+    parts_[id->index()].placed.assign(primitive.part->primitives.size(), false);
+  }
+  PartNode& n = parts_[id->index()];
+  if (n.placed.empty() || n.placed[primitive.index.index()]) {
+    report.diagnostics.error(
+        codes::kDuplicateName, fmt::format("{}: that primitive is already placed", who), where);
+    return report;
+  }
+  auto copy = std::make_shared<Part>(*n.part);
+  copy->primitives[primitive.index.index()].frame = frame;
+  n.part = std::move(copy);
+  n.placed[primitive.index.index()] = true;
+  report.description = fmt::format("{} at {}", who, frame.to_string());
+  report.accepted = true;
+  return report;
 }
 
 Diagnostics Assembly::end_with(std::shared_ptr<Part> part,
@@ -161,7 +228,7 @@ Diagnostics Assembly::end_with(std::shared_ptr<Part> part,
   }
   // The paper's programs give the frame of the part's first primitive (App. B.3, Fig. 8:
   // the soap bottle's rod, the basket's handle), as the reference's examples do.
-  return end_with(PrimitiveRef(part, 0), frame, where);
+  return end_with(PrimitiveRef(part, PrimitiveId{0}), frame, where);
 }
 
 Diagnostics Assembly::end_with(const PrimitiveRef& primitive,
@@ -178,17 +245,11 @@ Diagnostics Assembly::end_with(const PrimitiveRef& primitive,
                 where);
     return diags;
   }
-  for (int i = 0; i < 3; ++i) {
-    if (!std::isfinite(frame.pos[i]) || !std::isfinite(frame.rot[i])) {
-      diags.error(
-          codes::kInvalidValue,
-          fmt::format("end_with: target frame {} has a non-finite value", frame.to_string()),
-          where);
-      return diags;
-    }
+  if (!sane_frame(frame)) {
+    diags.error(codes::kInvalidValue, frame_problem("end_with: target", frame), where);
+    return diags;
   }
-  if (auto id = find(primitive.part.get());
-      id && parts_[static_cast<std::size_t>(id->value)].environment) {
+  if (auto id = find(primitive.part.get()); id && parts_[id->index()].environment) {
     diags.error(codes::kTargetMissing,
                 fmt::format("end_with: {} is an environment; the target must be a part the hack "
                             "holds",
@@ -200,125 +261,16 @@ Diagnostics Assembly::end_with(const PrimitiveRef& primitive,
   return diags;
 }
 
-ConnectReport Assembly::connect(const PrimitiveRef& a,
-                                const PrimitiveRef& b,
-                                const ConnectOptions& options) {
-  const auto started = std::chrono::steady_clock::now();
-  ConnectReport report;
-  Diagnostics& diags = report.diagnostics;
-  const SourceLocation& where = options.where;
+namespace {
 
-  for (const PrimitiveRef* r : {&a, &b}) {
-    if (!r->part) {
-      diags.error(codes::kUnknownPart, "connect: a primitive without a part was given", where);
-    } else if (!r->valid()) {
-      diags.error(codes::kUnknownPrimitive,
-                  fmt::format("connect: {} has no primitive '{}' (it has {})",
-                              describe_part(*r->part),
-                              r->requested,
-                              r->part->primitive_list()),
-                  where);
-    }
-  }
-  if (diags.has_errors()) return report;
-
-  if (a.part == b.part) {
-    diags.error(codes::kPairNotAllowed,
-                fmt::format("connect: {}.{} and {}.{} are on the same part; a part cannot be "
-                            "connected to itself",
-                            a.part->type_name,
-                            a.primitive().name,
-                            b.part->type_name,
-                            b.primitive().name),
-                where);
-    return report;
-  }
-  const bool has_environment =
-      std::any_of(parts_.begin(), parts_.end(), [](const PartNode& n) { return n.environment; });
-  if (!has_environment) {
-    diags.error(codes::kNoEnvironment,
-                "connect: the assembly has no environment yet; add() one first",
-                where);
-    return report;
-  }
-  const std::optional<PartId> a_in = find(a.part.get());
-  const std::optional<PartId> b_in = find(b.part.get());
-  if (!a_in && !b_in) {
-    diags.error(codes::kNotInAssembly,
-                fmt::format("connect: neither {} nor {} is in the assembly yet; connect each new "
-                            "part to something already in it",
-                            describe_part(*a.part),
-                            describe_part(*b.part)),
-                where);
-    return report;
-  }
-
-  // Work on a copy: a rejected connect must leave the assembly exactly as it was.
-  Assembly trial = *this;
-  const bool closes_cycle = a_in && b_in;
-  const PrimitiveRef& first_ref = (a_in) ? a : b;
-  const PrimitiveRef& second_ref = (a_in) ? b : a;
-  const PartId first_part = a_in ? *a_in : *b_in;
-  const PartId second_part =
-      closes_cycle ? *b_in : trial.insert_part(second_ref.part, false, Frame());
-  const int first_prim = first_ref.index;
-  const int second_prim = second_ref.index;
-  const Primitive& p1 = first_ref.primitive();
-  const Primitive& p2 = second_ref.primitive();
-  const std::string l1 = trial.label(first_part, first_prim);
-  const std::string l2 = trial.label(second_part, second_prim);
-  report.description = fmt::format("{} {} {}", l1, closes_cycle ? "↔" : "→", l2);
-  report.closes_cycle = closes_cycle;
-
-  // (a) the pair is allowed at all.
-  if (!pair_allowed(p1.type, p2.type)) {
-    diags.error(codes::kPairNotAllowed,
-                fmt::format("{} ({}) cannot connect to {} ({}): a {} connects only to a {}",
-                            l2,
-                            to_string(p2.type),
-                            l1,
-                            to_string(p1.type),
-                            to_string(p2.type),
-                            join_types(allowed_partners(p2.type))),
-                where);
-    return report;
-  }
-  // Single-connection primitives and repeated connections.
-  for (auto [part, prim, lbl] :
-       {std::tuple{first_part, first_prim, l1}, std::tuple{second_part, second_prim, l2}}) {
-    const Primitive& p = trial.node(part).part->primitives[static_cast<std::size_t>(prim)];
-    const std::vector<ConnectionId> existing = trial.connections_of(part, prim);
-    if (p.single_connection() && !existing.empty()) {
-      const Connection& c = trial.connection(existing.front());
-      const Connector& other =
-          (c.first.part == part && c.first.primitive == prim) ? c.second : c.first;
-      diags.error(codes::kSingleConnection,
-                  fmt::format("{} already holds {}; a {} holds one thing only",
-                              lbl,
-                              trial.label(other.part, other.primitive),
-                              to_string(p.type)),
-                  where);
-    }
-  }
-  for (ConnectionId id : trial.connections_of(first_part, first_prim)) {
-    const Connection& c = trial.connection(id);
-    const bool same = (c.second.part == second_part && c.second.primitive == second_prim) ||
-                      (c.first.part == second_part && c.first.primitive == second_prim);
-    if (same) {
-      diags.error(
-          codes::kAlreadyConnected, fmt::format("{} and {} are already connected", l1, l2), where);
-    }
-  }
-  if (diags.has_errors()) return report;
-
-  // (b) + (c): closedness, sizes, available critical dimension.
-  PrimitiveInUse u1{&p1, l1, trial.available_critical_dim(first_part, first_prim)};
-  PrimitiveInUse u2{&p2, l2, trial.available_critical_dim(second_part, second_prim)};
-  if (!check_compatibility(u1, u2, diags, where)) return report;
-
-  // Connector parameters (reference §3.4).
-  std::vector<ParamSpec> params1 = p1.connector_params();
-  std::vector<ParamSpec> params2 = p2.connector_params();
+// Connector parameters of a new connection (reference §3.4): which sides are pinned, ranges
+// that keep a smaller surface or roll fully on, what step 2 holds fixed.
+void shape_connector_params(const Primitive& p1,
+                            const Primitive& p2,
+                            bool closes_cycle,
+                            bool fixed,
+                            std::vector<ParamSpec>& params1,
+                            std::vector<ParamSpec>& params2) {
   const ConnectorKind k1 = p1.connector_kind();
   const ConnectorKind k2 = p2.connector_kind();
   auto pin = [](std::vector<ParamSpec>& ps, bool keep_angles_free) {
@@ -365,7 +317,7 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
   const bool has_clip = p1.type == PrimitiveType::kClip || p2.type == PrimitiveType::kClip;
   for (auto* ps : {&params1, &params2}) {
     for (ParamSpec& s : *ps) {
-      if (options.fixed || has_clip) s.fixed_under_physics = true;
+      if (fixed || has_clip) s.fixed_under_physics = true;
     }
   }
   // Friction keeps a resting object where it stands: a surface contact does not slide or spin
@@ -374,58 +326,193 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
     if (prim->type != PrimitiveType::kSurface) continue;
     for (ParamSpec& s : *ps) s.fixed_under_physics = true;
   }
+}
 
-  const AlignmentOffset align = alignment_offset(k1, k2);
-  if (options.alignment == AlignmentChoice::kFlip && !align.flippable()) {
-    diags.warning(codes::kUnknownName,
-                  fmt::format("alignment \"flip\" has no effect on a {}–{} connection ({} and {})",
-                              to_string(k1),
-                              to_string(k2),
-                              l1,
-                              l2),
+}  // namespace
+
+std::optional<Assembly::ConnectPlan> Assembly::plan_connect(const PrimitiveRef& a,
+                                                            const PrimitiveRef& b,
+                                                            const SourceLocation& where,
+                                                            Diagnostics& diags) const {
+  for (const PrimitiveRef* r : {&a, &b}) {
+    if (!r->part) {
+      diags.error(codes::kUnknownPart, "connect: a primitive without a part was given", where);
+    } else if (!r->valid()) {
+      diags.error(codes::kUnknownPrimitive,
+                  fmt::format("connect: {} has no primitive '{}' (it has {})",
+                              describe_part(*r->part),
+                              r->requested,
+                              r->part->primitive_list()),
                   where);
+    }
   }
+  if (diags.has_errors()) return std::nullopt;
+  if (a.part == b.part) {
+    diags.error(codes::kPairNotAllowed,
+                fmt::format("connect: {}.{} and {}.{} are on the same part; a part cannot be "
+                            "connected to itself",
+                            a.part->type_name,
+                            a.primitive().name,
+                            b.part->type_name,
+                            b.primitive().name),
+                where);
+    return std::nullopt;
+  }
+  const bool has_environment =
+      std::any_of(parts_.begin(), parts_.end(), [](const PartNode& n) { return n.environment; });
+  if (!has_environment) {
+    diags.error(codes::kNoEnvironment,
+                "connect: the assembly has no environment yet; add() one first",
+                where);
+    return std::nullopt;
+  }
+  const std::optional<PartId> a_in = find(a.part.get());
+  const std::optional<PartId> b_in = find(b.part.get());
+  if (!a_in && !b_in) {
+    diags.error(codes::kNotInAssembly,
+                fmt::format("connect: neither {} nor {} is in the assembly yet; connect each new "
+                            "part to something already in it",
+                            describe_part(*a.part),
+                            describe_part(*b.part)),
+                where);
+    return std::nullopt;
+  }
+  // A loose-primitive environment placed primitive by primitive: only placed ones connect.
+  for (auto [ref, id] : {std::pair{&a, a_in}, std::pair{&b, b_in}}) {
+    if (!id) continue;
+    const PartNode& n = parts_[id->index()];
+    if (!n.placed.empty() && !n.placed[ref->index.index()]) {
+      diags.error(codes::kNotInAssembly,
+                  fmt::format("connect: {}.{} is not placed yet; add it first with "
+                              "add({}.{}, Frame(...))",
+                              label(*id),
+                              ref->primitive().name,
+                              label(*id),
+                              ref->primitive().name),
+                  where);
+      return std::nullopt;
+    }
+  }
+  ConnectPlan plan;
+  plan.closes_cycle = a_in && b_in;
+  plan.first = a_in ? a : b;
+  plan.second = a_in ? b : a;
+  plan.first_part = a_in ? *a_in : *b_in;
+  if (plan.closes_cycle) plan.second_part = *b_in;
+  return plan;
+}
 
+bool Assembly::check_connect_rules(const ConnectPlan& plan,
+                                   const std::string& l1,
+                                   const std::string& l2,
+                                   const SourceLocation& where,
+                                   Diagnostics& diags) const {
+  const Primitive& p1 = plan.first.primitive();
+  const Primitive& p2 = plan.second.primitive();
+  // (a) the pair is allowed at all.
+  if (!pair_allowed(p1.type, p2.type)) {
+    diags.error(codes::kPairNotAllowed,
+                fmt::format("{} ({}) cannot connect to {} ({}): a {} connects only to a {}",
+                            l2,
+                            to_string(p2.type),
+                            l1,
+                            to_string(p1.type),
+                            to_string(p2.type),
+                            join_types(allowed_partners(p2.type))),
+                where);
+    return false;
+  }
+  // Single-connection primitives and repeated connections (a new part has none yet).
+  for (auto [part, ref, lbl] : {std::tuple{plan.first_part, &plan.first, l1},
+                                std::tuple{plan.second_part, &plan.second, l2}}) {
+    const std::vector<ConnectionId> existing = connections_of(part, ref->index);
+    if (ref->primitive().single_connection() && !existing.empty()) {
+      const Connection& c = connection(existing.front());
+      const Connector& other =
+          (c.first.part == part && c.first.primitive == ref->index) ? c.second : c.first;
+      diags.error(codes::kSingleConnection,
+                  fmt::format("{} already holds {}; a {} holds one thing only",
+                              lbl,
+                              label(other.part, other.primitive),
+                              to_string(ref->primitive().type)),
+                  where);
+    }
+  }
+  {
+    for (ConnectionId id : connections_of(plan.first_part, plan.first.index)) {
+      const Connection& c = connection(id);
+      const bool same =
+          (c.second.part == plan.second_part && c.second.primitive == plan.second.index) ||
+          (c.first.part == plan.second_part && c.first.primitive == plan.second.index);
+      if (same) {
+        diags.error(codes::kAlreadyConnected,
+                    fmt::format("{} and {} are already connected", l1, l2),
+                    where);
+      }
+    }
+  }
+  if (diags.has_errors()) return false;
+  // (b) + (c): closedness, sizes, available critical dimension.
+  const PrimitiveInUse u1{&p1, l1, available_critical_dim(plan.first_part, plan.first.index)};
+  const PrimitiveInUse u2{&p2, l2, available_critical_dim(plan.second_part, plan.second.index)};
+  return check_compatibility(u1, u2, diags, where);
+}
+
+ConnectionId Assembly::record_connection(ConnectPlan& plan, const ConnectOptions& options) {
+  const Primitive& p1 = plan.first.primitive();
+  const Primitive& p2 = plan.second.primitive();
+  std::vector<ParamSpec> params1 = p1.connector_params();
+  std::vector<ParamSpec> params2 = p2.connector_params();
+  shape_connector_params(p1, p2, plan.closes_cycle, options.fixed, params1, params2);
+  const AlignmentOffset align = alignment_offset(p1.connector_kind(), p2.connector_kind());
+
+  const ConnectionId id{static_cast<int>(connections_.size())};
   Connection conn;
   conn.alignment = options.alignment;
   conn.offset = align.matrix(options.alignment);
   conn.offset_rigid = Rigid<double>::from_matrix(conn.offset);
   conn.fixed = options.fixed;
-  conn.closes_cycle = closes_cycle;
-  conn.where = where;
-  const ConnectionId id{static_cast<int>(trial.connections_.size())};
-  conn.first = trial.make_connector(first_part, first_prim, params1);
+  conn.closes_cycle = plan.closes_cycle;
+  conn.where = options.where;
+  conn.first = make_connector(plan.first_part, plan.first.index, params1);
   for (const ParamSpec& s : params1) {
-    trial.params_.push_back({s, id, first_part, first_prim});
-    trial.values_.push_back(s.init);
+    params_.push_back({s, id, plan.first_part, plan.first.index});
+    values_.push_back(s.init);
   }
-  conn.second = trial.make_connector(second_part, second_prim, params2);
+  connections_.push_back(conn);
+  // A new part and its tree edge are in the graph already (connect() put them there).
+  if (plan.closes_cycle) graph_.add_edge(plan.first_part, plan.second_part, true);
+  Connection& stored = connections_.back();
+  stored.second = make_connector(plan.second_part, plan.second.index, params2);
   for (const ParamSpec& s : params2) {
-    trial.params_.push_back({s, id, second_part, second_prim});
-    trial.values_.push_back(s.init);
+    params_.push_back({s, id, plan.second_part, plan.second.index});
+    values_.push_back(s.init);
   }
-  trial.connections_.push_back(conn);
-  if (!closes_cycle) trial.parts_[static_cast<std::size_t>(second_part.value)].parent = id;
 
   // (c) bookkeeping of the available critical dimension (§4.3).
-  auto& s1 = trial.primitive_state_[static_cast<std::size_t>(first_part.value)]
-                                   [static_cast<std::size_t>(first_prim)];
-  auto& s2 = trial.primitive_state_[static_cast<std::size_t>(second_part.value)]
-                                   [static_cast<std::size_t>(second_prim)];
+  PrimitiveState& s1 = primitive_state_[plan.first_part.index()][plan.first.index.index()];
+  PrimitiveState& s2 = primitive_state_[plan.second_part.index()][plan.second.index.index()];
   const std::vector<double> before1 = s1.available;
   s1.available = consume_critical_dim(p1, s1.available, p2, s2.available);
   s2.available = consume_critical_dim(p2, s2.available, p1, before1);
   ++s1.connections;
   ++s2.connections;
-  report.connection = id;
+  return id;
+}
 
-  // (d) + (e): cycles and multi-connection spacing must be satisfiable together.
-  const bool new_multi = s1.connections > 1 || s2.connections > 1;
-  const bool has_cycles = !trial.cycle_connections().empty();
-  if (closes_cycle) {
-    report.cycles.push_back(trial.describe_cycle(id));
+bool Assembly::verify_closure(ConnectionId id,
+                              const ConnectOptions& options,
+                              ConnectReport& report) {
+  Diagnostics& diags = report.diagnostics;
+  const Connection& conn = connection(id);
+  const bool new_multi =
+      primitive_state_[conn.first.part.index()][conn.first.primitive.index()].connections > 1 ||
+      primitive_state_[conn.second.part.index()][conn.second.primitive.index()].connections > 1;
+  const bool has_cycles = !cycle_connections().empty();
+  if (conn.closes_cycle) {
+    report.cycles.push_back(describe_cycle(id));
     if (options.verify.quick_reject) {
-      const detail::PolygonVerdict v = detail::check_cycle_polygon(trial, id);
+      const detail::PolygonVerdict v = detail::check_cycle_polygon(*this, id);
       if (!v.feasible) {
         const detail::CycleSegment& s = v.segments[static_cast<std::size_t>(v.failing)];
         diags.error(codes::kCycleTooLong,
@@ -435,134 +522,142 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
                                 s.range.lo,
                                 s.description,
                                 v.others_span),
-                    where);
-        report.best_parameters = trial.values_;
-        report.best_part_frames.clear();
-        for (const Mat4& m : trial.part_frames(trial.values_)) {
+                    options.where);
+        report.best_parameters = values_;
+        for (const Mat4& m : part_frames(values_)) {
           report.best_part_frames.push_back(Frame::from_matrix(m));
         }
-        report.milliseconds = elapsed_ms(started);
-        return report;
+        return false;
       }
     }
   }
-  if (closes_cycle || (new_multi && has_cycles)) {
-    const detail::ClosureResult r = detail::close_cycles(trial, trial.values_, options.verify);
-    report.starts_used = r.starts;
-    report.residual = r.cost;
-    report.best_parameters = r.x;
-    for (std::size_t i = 0; i < report.best_parameters.size(); ++i) {
-      if (trial.params_[i].spec.tag == ParamTag::kUnbounded) {
-        report.best_parameters[i] = wrap_360(report.best_parameters[i]);
-      }
+  if (!conn.closes_cycle && !(new_multi && has_cycles)) return true;
+  const detail::ClosureResult r = detail::close_cycles(*this, values_, options.verify);
+  report.starts_used = r.starts;
+  report.residual = r.cost;
+  report.best_parameters = r.x;
+  for (std::size_t i = 0; i < report.best_parameters.size(); ++i) {
+    if (params_[i].spec.tag == ParamTag::kUnbounded) {
+      report.best_parameters[i] = wrap_360(report.best_parameters[i]);
     }
-    for (const Mat4& m : trial.part_frames(report.best_parameters)) {
-      report.best_part_frames.push_back(Frame::from_matrix(m));
+  }
+  for (const Mat4& m : part_frames(report.best_parameters)) {
+    report.best_part_frames.push_back(Frame::from_matrix(m));
+  }
+  if (r.closed) {
+    values_ = report.best_parameters;
+    return true;
+  }
+  std::string gap;
+  for (const detail::ClosureGap& g : detail::closure_gaps(*this, r.x)) {
+    if (g.position_mm < 1e-3 && g.rotation_deg < 1e-3) continue;
+    const Connection& c = connection(g.connection);
+    gap += fmt::format("{}a gap of {:.1f} mm and {:.1f}° at {} ↔ {}",
+                       gap.empty() ? "" : "; ",
+                       g.position_mm,
+                       g.rotation_deg,
+                       label(c.first.part, c.first.primitive),
+                       label(c.second.part, c.second.primitive));
+  }
+  std::string overlap;
+  for (const detail::MultiConnectionPair& m : detail::multi_connection_pairs(*this)) {
+    const double f = detail::multi_connection_value<double>(m, r.x.data());
+    if (f < -1e-3) {
+      overlap +=
+          fmt::format("{}{} overlap by {:.1f} mm", overlap.empty() ? "" : "; ", m.description, -f);
     }
-    if (!r.closed) {
-      std::string gap;
-      for (const detail::ClosureGap& g : detail::closure_gaps(trial, r.x)) {
-        if (g.position_mm < 1e-3 && g.rotation_deg < 1e-3) continue;
-        const Connection& c = trial.connection(g.connection);
-        gap += fmt::format("{}a gap of {:.1f} mm and {:.1f}° at {} ↔ {}",
-                           gap.empty() ? "" : "; ",
-                           g.position_mm,
-                           g.rotation_deg,
-                           trial.label(c.first.part, c.first.primitive),
-                           trial.label(c.second.part, c.second.primitive));
-      }
-      std::string overlap;
-      for (const detail::MultiConnectionPair& m : detail::multi_connection_pairs(trial)) {
-        const double f = detail::multi_connection_value<double>(m, r.x.data());
-        if (f < -1e-3) {
-          overlap += fmt::format(
-              "{}{} overlap by {:.1f} mm", overlap.empty() ? "" : "; ", m.description, -f);
-        }
-      }
-      const std::string best =
-          fmt::format("the best of {} start{} leaves {}",
-                      r.starts,
-                      r.starts == 1 ? "" : "s",
-                      gap.empty() ? overlap : (overlap.empty() ? gap : gap + "; " + overlap));
-      if (closes_cycle) {
-        diags.error(codes::kCycleNotClosable,
-                    fmt::format("cannot close cycle {}: {}", report.cycles.back(), best),
-                    where);
-      } else {
-        diags.error(
-            codes::kMultiConnection,
-            fmt::format("{} leaves no room on a shared primitive: {}", report.description, best),
-            where);
-      }
-      report.milliseconds = elapsed_ms(started);
-      return report;
-    }
-    trial.values_ = report.best_parameters;
+  }
+  const std::string best =
+      fmt::format("the best of {} start{} leaves {}",
+                  r.starts,
+                  r.starts == 1 ? "" : "s",
+                  gap.empty() ? overlap : (overlap.empty() ? gap : gap + "; " + overlap));
+  if (conn.closes_cycle) {
+    diags.error(codes::kCycleNotClosable,
+                fmt::format("cannot close cycle {}: {}", report.cycles.back(), best),
+                options.where);
+  } else {
+    diags.error(
+        codes::kMultiConnection,
+        fmt::format("{} leaves no room on a shared primitive: {}", report.description, best),
+        options.where);
+  }
+  return false;
+}
+
+ConnectReport Assembly::connect(const PrimitiveRef& a,
+                                const PrimitiveRef& b,
+                                const ConnectOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  ConnectReport report;
+  std::optional<ConnectPlan> plan = plan_connect(a, b, options.where, report.diagnostics);
+  if (!plan) return report;
+  // Work on a copy: a rejected connect must leave the assembly exactly as it was. A part
+  // coming in joins the copy first (hanging from the edge about to be made), so that it and
+  // parts of its type are labelled as they will be.
+  Assembly trial = *this;
+  if (!plan->closes_cycle) {
+    const ConnectionId next{static_cast<int>(connections_.size())};
+    trial.graph_.add_edge(plan->first_part, PartId{static_cast<int>(parts_.size())}, false);
+    plan->second_part =
+        trial.insert_part(plan->second.part, false, Frame(), plan->first_part, next);
+  }
+  const std::string l1 = trial.label(plan->first_part, plan->first.index);
+  const std::string l2 = trial.label(plan->second_part, plan->second.index);
+  report.description = fmt::format("{} {} {}", l1, plan->closes_cycle ? "↔" : "→", l2);
+  report.closes_cycle = plan->closes_cycle;
+  if (!trial.check_connect_rules(*plan, l1, l2, options.where, report.diagnostics)) {
+    return report;
   }
 
-  report.accepted = true;
+  const AlignmentOffset align = alignment_offset(plan->first.primitive().connector_kind(),
+                                                 plan->second.primitive().connector_kind());
+  if (options.alignment == AlignmentChoice::kFlip && !align.flippable()) {
+    report.diagnostics.warning(
+        codes::kUnknownName,
+        fmt::format("alignment \"flip\" has no effect on a {}–{} connection ({} and {})",
+                    to_string(plan->first.primitive().connector_kind()),
+                    to_string(plan->second.primitive().connector_kind()),
+                    l1,
+                    l2),
+        options.where);
+  }
+  report.connection = trial.record_connection(*plan, options);
+  const bool ok = trial.verify_closure(report.connection, options, report);
   report.milliseconds = elapsed_ms(started);
+  if (!ok) return report;
+  report.accepted = true;
   *this = std::move(trial);
   return report;
 }
 
 std::vector<ConnectionId> Assembly::cycle_connections() const {
-  std::vector<ConnectionId> out;
-  for (std::size_t i = 0; i < connections_.size(); ++i) {
-    if (connections_[i].closes_cycle) out.push_back(ConnectionId{static_cast<int>(i)});
-  }
-  return out;
+  return graph_.cycle_edges();
 }
 
-std::vector<ConnectionId> Assembly::connections_of(PartId id, int primitive) const {
+std::vector<ConnectionId> Assembly::connections_of(PartId id, PrimitiveId primitive) const {
   std::vector<ConnectionId> out;
   for (std::size_t i = 0; i < connections_.size(); ++i) {
-    const Connection& c = connections_[i];
-    if ((c.first.part == id && c.first.primitive == primitive) ||
-        (c.second.part == id && c.second.primitive == primitive)) {
+    const Connection& conn = connections_[i];
+    if ((conn.first.part == id && conn.first.primitive == primitive) ||
+        (conn.second.part == id && conn.second.primitive == primitive)) {
       out.push_back(ConnectionId{static_cast<int>(i)});
     }
   }
   return out;
 }
 
-std::vector<double> Assembly::available_critical_dim(PartId id, int primitive) const {
-  return primitive_state_.at(static_cast<std::size_t>(id.value))
-      .at(static_cast<std::size_t>(primitive))
-      .available;
-}
-
-Assembly::CyclePath Assembly::cycle_path(ConnectionId closing) const {
-  const Connection& c = connection(closing);
-  auto root_path = [&](PartId p) {
-    std::vector<PartId> path{p};
-    while (node(path.back()).parent.valid()) {
-      path.push_back(connection(node(path.back()).parent).first.part);
-    }
-    return path;
-  };
-  CyclePath out;
-  out.first_side = root_path(c.first.part);
-  out.second_side = root_path(c.second.part);
-  std::vector<PartId>& a = out.first_side;
-  std::vector<PartId>& b = out.second_side;
-  // Drop the shared part above the lowest common ancestor.
-  while (a.size() > 1 && b.size() > 1 && a.back() == b.back() &&
-         a[a.size() - 2] == b[b.size() - 2]) {
-    a.pop_back();
-    b.pop_back();
-  }
-  out.common_ancestor = a.back() == b.back();
-  return out;
+std::vector<double> Assembly::available_critical_dim(PartId id, PrimitiveId primitive) const {
+  return primitive_state_.at(id.index()).at(primitive.index()).available;
 }
 
 std::string Assembly::describe_cycle(ConnectionId closing) const {
   const Connection& c = connection(closing);
   const CyclePath loop = cycle_path(closing);
   // The primitive on the top part that leads down towards the closing connection.
-  auto top_primitive = [&](const std::vector<PartId>& path, int closing_prim) {
+  auto top_primitive = [&](const std::vector<PartId>& path, PrimitiveId closing_prim) {
     if (path.size() == 1) return closing_prim;
-    return connection(node(path[path.size() - 2]).parent).first.primitive;
+    return connection(parent(path[path.size() - 2])).first.primitive;
   };
   std::vector<std::string> items;
   items.push_back(label(loop.first_side.back(), top_primitive(loop.first_side, c.first.primitive)));
@@ -588,24 +683,7 @@ void Assembly::set_values(std::vector<double> x) {
 std::vector<Mat4> Assembly::part_frames(const std::vector<double>& x) const {
   std::vector<Mat4> out;
   out.reserve(parts_.size());
-  // Parents always precede children, so one pass in insertion order suffices.
-  for (std::size_t i = 0; i < parts_.size(); ++i) {
-    const PartNode& n = parts_[i];
-    if (!n.parent.valid()) {
-      out.push_back(n.frame.matrix());
-      continue;
-    }
-    const Connection& c = connections_[static_cast<std::size_t>(n.parent.value)];
-    const Rigid<double> parent =
-        Rigid<double>::from_matrix(out[static_cast<std::size_t>(c.first.part.value)]);
-    const Primitive& child = n.part->primitives[static_cast<std::size_t>(c.second.primitive)];
-    Rigid<double> child_connector = c.second.base;
-    apply_connector<double>(
-        child.connector_kind(), child.shape, x.data() + c.second.offset, child_connector);
-    out.push_back((connector_world<double>(c.first, parent, x.data()).then(c.offset_rigid) *
-                   child_connector.inverse())
-                      .matrix());
-  }
+  for (const Rigid<double>& r : all_part_frames<double>(x.data())) out.push_back(r.matrix());
   return out;
 }
 

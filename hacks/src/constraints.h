@@ -22,7 +22,7 @@ inline constexpr double kRotationResidualScale = kRadToDeg / 1.4142135623730951;
 inline std::optional<Vec3> free_rotation_axis(const Assembly& a, ConnectionId id) {
   const Connection& c = a.connection(id);
   auto kind = [&](const Connector& k) {
-    return a.node(k.part).part->primitives[static_cast<std::size_t>(k.primitive)].connector_kind();
+    return a.node(k.part).part->primitive(k.primitive).connector_kind();
   };
   if (kind(c.second) == ConnectorKind::kRodCenterline) return Vec3::UnitY();
   if (kind(c.first) == ConnectorKind::kRodCenterline) {

@@ -33,8 +33,8 @@ Layout make_layout(const Assembly& a) {
     }
   };
   auto add_path = [&](PartId p) {
-    while (a.node(p).parent.valid()) {
-      const Connection& up = a.connection(a.node(p).parent);
+    while (a.parent(p).valid()) {
+      const Connection& up = a.connection(a.parent(p));
       add_connector(up.first);
       add_connector(up.second);
       p = up.first.part;
@@ -137,16 +137,17 @@ std::vector<MultiConnectionPair> multi_connection_pairs(const Assembly& a) {
   std::vector<MultiConnectionPair> out;
   for (int p = 0; p < a.part_count(); ++p) {
     const Part& part = *a.node(PartId{p}).part;
-    for (int prim = 0; prim < static_cast<int>(part.primitives.size()); ++prim) {
+    for (int k = 0; k < static_cast<int>(part.primitives.size()); ++k) {
+      const PrimitiveId prim{k};
       const std::vector<ConnectionId> conns = a.connections_of(PartId{p}, prim);
       if (conns.size() < 2) continue;
-      const Primitive& self = part.primitives[static_cast<std::size_t>(prim)];
+      const Primitive& self = part.primitive(prim);
       const std::vector<double> length = self.critical_dim();
       struct Use {
         std::vector<int> params;
         std::vector<double> cd;
         PartId neighbour;
-        int neighbour_prim;
+        PrimitiveId neighbour_prim;
       };
       std::vector<Use> uses;
       std::set<int> neighbours;
@@ -160,8 +161,7 @@ std::vector<MultiConnectionPair> multi_connection_pairs(const Assembly& a) {
         for (std::size_t i = 0; i < mine.params.size(); ++i) {
           if (mine.params[i].critical_dim) u.params.push_back(mine.offset + static_cast<int>(i));
         }
-        const Primitive& op =
-            a.node(other.part).part->primitives[static_cast<std::size_t>(other.primitive)];
+        const Primitive& op = a.node(other.part).part->primitive(other.primitive);
         u.cd = op.connector_critical_dim();
         u.neighbour = other.part;
         u.neighbour_prim = other.primitive;

@@ -201,7 +201,7 @@ class Reader {
       step.kind = DesignStep::Kind::kEndWith;
       step.where = tdecl.where;
       step.text = fmt::format("end_with {} at {}", tdecl.label, tdecl.frame.to_string());
-      Diagnostics d = tdecl.primitive >= 0
+      Diagnostics d = tdecl.primitive.valid()
                           ? design.assembly.end_with(
                                 PrimitiveRef(tdecl.part, tdecl.primitive), tdecl.frame, tdecl.where)
                           : design.assembly.end_with(tdecl.part, tdecl.frame, tdecl.where);
@@ -239,7 +239,7 @@ class Reader {
   };
   struct TargetDecl {
     std::shared_ptr<Part> part;
-    int primitive = -1;
+    PrimitiveId primitive;
     Frame frame;
     std::string label;
     SourceLocation where;
@@ -500,7 +500,7 @@ class Reader {
     if (auto p = n["primitive"]) {
       const std::string pname = scalar(p, "primitive");
       t.primitive = t.part->find_primitive(pname);
-      if (t.primitive < 0) {
+      if (!t.primitive.valid()) {
         error(codes::kUnknownPrimitive,
               fmt::format("target {} ({}) has no primitive '{}' (it has {})",
                           name,

@@ -198,17 +198,18 @@ PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closin
   const bool common_ancestor = loop.common_ancestor;
 
   // The primitive of part path[k] that connects towards the closing connection.
-  auto down_primitive = [&](const std::vector<PartId>& path, std::size_t k, int closing_prim) {
-    if (k == 0) return closing_prim;
-    return assembly.connection(assembly.node(path[k - 1]).parent).first.primitive;
-  };
+  auto down_primitive =
+      [&](const std::vector<PartId>& path, std::size_t k, PrimitiveId closing_prim) {
+        if (k == 0) return closing_prim;
+        return assembly.connection(assembly.parent(path[k - 1])).first.primitive;
+      };
   auto up_primitive = [&](PartId p) {
-    return assembly.connection(assembly.node(p).parent).second.primitive;
+    return assembly.connection(assembly.parent(p)).second.primitive;
   };
 
   PolygonVerdict verdict;
   const Mat4 identity = Mat4::Identity();
-  auto add_segment = [&](PartId part, int pa, int pb) {
+  auto add_segment = [&](PartId part, PrimitiveId pa, PrimitiveId pb) {
     const Part& body = *assembly.node(part).part;
     CycleSegment seg;
     if (pa == pb) {
@@ -217,11 +218,8 @@ PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closin
       seg.description =
           fmt::format("between {} and {}", assembly.label(part, pa), assembly.label(part, pb));
     }
-    seg.range = connector_distance_range(body.primitives[static_cast<std::size_t>(pa)],
-                                         identity,
-                                         body.primitives[static_cast<std::size_t>(pb)],
-                                         identity,
-                                         pa == pb);
+    seg.range = connector_distance_range(
+        body.primitive(pa), identity, body.primitive(pb), identity, pa == pb);
     verdict.segments.push_back(seg);
   };
 
@@ -234,8 +232,8 @@ PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closin
   for (std::size_t k = 0; k < below_b; ++k) {
     add_segment(path_b[k], down_primitive(path_b, k, c.second.primitive), up_primitive(path_b[k]));
   }
-  const int top_a = down_primitive(path_a, below_a, c.first.primitive);
-  const int top_b = down_primitive(path_b, below_b, c.second.primitive);
+  const PrimitiveId top_a = down_primitive(path_a, below_a, c.first.primitive);
+  const PrimitiveId top_b = down_primitive(path_b, below_b, c.second.primitive);
   if (common_ancestor) {
     add_segment(path_a.back(), top_a, top_b);
   } else {
@@ -246,9 +244,9 @@ PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closin
     seg.description = fmt::format("between {} and {}",
                                   assembly.label(path_a.back(), top_a),
                                   assembly.label(path_b.back(), top_b));
-    seg.range = connector_distance_range(ea.part->primitives[static_cast<std::size_t>(top_a)],
+    seg.range = connector_distance_range(ea.part->primitive(top_a),
                                          ea.frame.matrix(),
-                                         eb.part->primitives[static_cast<std::size_t>(top_b)],
+                                         eb.part->primitive(top_b),
                                          eb.frame.matrix(),
                                          false);
     verdict.segments.push_back(seg);

@@ -64,16 +64,16 @@ std::string_view to_string(PartCategory c) {
   return "other";
 }
 
-int Part::find_primitive(std::string_view name) const {
+PrimitiveId Part::find_primitive(std::string_view name) const {
   for (std::size_t i = 0; i < primitives.size(); ++i) {
-    if (primitives[i].name == name) return static_cast<int>(i);
+    if (primitives[i].name == name) return PrimitiveId{static_cast<int>(i)};
   }
   if (const auto alias = hole_ring_alias(name)) {
     for (std::size_t i = 0; i < primitives.size(); ++i) {
-      if (primitives[i].name == *alias) return static_cast<int>(i);
+      if (primitives[i].name == *alias) return PrimitiveId{static_cast<int>(i)};
     }
   }
-  return -1;
+  return PrimitiveId{};
 }
 
 std::string Part::primitive_list() const {

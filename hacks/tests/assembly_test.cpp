@@ -94,8 +94,8 @@ TEST(Assembly, LabelsCountInstancesOfAType) {
   EXPECT_EQ(a.label(PartId{1}), "DoubleHook");
   ASSERT_TRUE(a.connect({dh2, "hook1"}, {env, "rod"}).accepted);
   EXPECT_EQ(a.label(PartId{1}), "DoubleHook#1");
-  EXPECT_EQ(a.label(PartId{2}, 0), "DoubleHook#2.hook1");
-  EXPECT_EQ(a.label(PartId{0}, 0), "Environment.rod");
+  EXPECT_EQ(a.label(PartId{2}, PrimitiveId{0}), "DoubleHook#2.hook1");
+  EXPECT_EQ(a.label(PartId{0}, PrimitiveId{0}), "Environment.rod");
   basket->instance_name = "mybasket";
   ASSERT_TRUE(a.connect({basket, "rod1"}, {dh1, "hook2"}).accepted);
   EXPECT_EQ(a.label(PartId{3}), "mybasket");
@@ -129,7 +129,7 @@ TEST(Assembly, RejectedConnectLeavesTheAssemblyUnchanged) {
   EXPECT_EQ(a.part_count(), 1);
   EXPECT_TRUE(a.connections().empty());
   EXPECT_EQ(a.parameter_count(), 0);
-  EXPECT_EQ(a.available_critical_dim(PartId{0}, 0), std::vector<double>{2920});
+  EXPECT_EQ(a.available_critical_dim(PartId{0}, PrimitiveId{0}), std::vector<double>{2920});
 }
 
 TEST(Assembly, ConnectDecidesTreeOrCycle) {
@@ -158,7 +158,7 @@ TEST(Assembly, ConnectDecidesTreeOrCycle) {
   EXPECT_LT((f1.t - f2.t).norm(), 1e-3);
   EXPECT_LT((f1.R - f2.R).norm(), 1e-4);
   // The basket's handle now carries two connections.
-  EXPECT_EQ(a.connections_of(PartId{3}, 0).size(), 2u);
+  EXPECT_EQ(a.connections_of(PartId{3}, PrimitiveId{0}).size(), 2u);
 }
 
 TEST(Assembly, EndWithTargetsThePartsFirstPrimitive) {
@@ -169,11 +169,11 @@ TEST(Assembly, EndWithTargetsThePartsFirstPrimitive) {
   const Frame goal(Vec3(0, 0, 253), Vec3(0, 0, 180));
   EXPECT_TRUE(a.end_with(bottle, goal).empty());
   ASSERT_TRUE(a.target());
-  EXPECT_EQ(a.target()->primitive, 0);
+  EXPECT_EQ(a.target()->primitive.value, 0);
   EXPECT_EQ(bottle->primitives[0].name, "rod");
   EXPECT_LT((a.target()->frame.matrix() - goal.matrix()).norm(), 1e-12);
   EXPECT_TRUE(a.end_with(PrimitiveRef(bottle, "surface"), goal).empty());
-  EXPECT_EQ(a.target()->primitive, 1);
+  EXPECT_EQ(a.target()->primitive.value, 1);
   EXPECT_TRUE(testing::has_diagnostic(
       a.end_with(env, Frame()), codes::kTargetMissing, "is an environment"));
 }

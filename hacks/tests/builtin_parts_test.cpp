@@ -291,7 +291,7 @@ TEST(BuiltinParts, EveryRowMatchesTheTable) {
     ASSERT_EQ(part->primitives.size(), row.primitives.size());
     for (std::size_t i = 0; i < row.primitives.size(); ++i) {
       // By name: the order may differ where it decides end_with's default (Toothbrush).
-      const int at = part->find_primitive(row.primitives[i].name);
+      const int at = part->find_primitive(row.primitives[i].name).value;
       ASSERT_GE(at, 0) << row.name << " has no " << row.primitives[i].name;
       expect_primitive(row.name, part->primitives[static_cast<std::size_t>(at)], row.primitives[i]);
     }
@@ -328,7 +328,7 @@ TEST(BuiltinParts, MeshesAndMassProperties) {
     }
     // Primitive names are unique within the part.
     for (std::size_t i = 0; i < part->primitives.size(); ++i) {
-      EXPECT_EQ(part->find_primitive(part->primitives[i].name), static_cast<int>(i));
+      EXPECT_EQ(part->find_primitive(part->primitives[i].name).value, static_cast<int>(i));
     }
   }
 }
@@ -363,17 +363,17 @@ TEST(BuiltinParts, Aliases) {
 TEST(BuiltinParts, HoleAndRingNameTheSamePrimitive) {
   auto clip = make("BinderClip");
   ASSERT_NE(clip, nullptr);
-  EXPECT_EQ(clip->find_primitive("ring1"), 1);
-  EXPECT_EQ(clip->find_primitive("hole1"), 1);
-  EXPECT_EQ(clip->find_primitive("hole2"), 2);
-  EXPECT_EQ(clip->find_primitive("clip"), 0);
-  EXPECT_EQ(clip->find_primitive("hole3"), -1);
-  EXPECT_EQ(clip->find_primitive("rod"), -1);
+  EXPECT_EQ(clip->find_primitive("ring1").value, 1);
+  EXPECT_EQ(clip->find_primitive("hole1").value, 1);
+  EXPECT_EQ(clip->find_primitive("hole2").value, 2);
+  EXPECT_EQ(clip->find_primitive("clip").value, 0);
+  EXPECT_EQ(clip->find_primitive("hole3").value, -1);
+  EXPECT_EQ(clip->find_primitive("rod").value, -1);
   EXPECT_EQ(clip->primitive_list(), "clip, ring1, ring2");
   auto eye = make("HookEyeLeftS");
   ASSERT_NE(eye, nullptr);
   EXPECT_EQ(eye->find_primitive("hole"), eye->find_primitive("ring"));
-  EXPECT_GE(eye->find_primitive("hole"), 0);
+  EXPECT_TRUE(eye->find_primitive("hole").valid());
 
   // And the other way round on a part whose primitive is called "hole".
   Part env = make_primitive_part({Primitive::make("hole2", PrimitiveType::kRing, [] {
@@ -382,7 +382,7 @@ TEST(BuiltinParts, HoleAndRingNameTheSamePrimitive) {
     s.thickness = 1;
     return s;
   }())});
-  EXPECT_EQ(env.find_primitive("ring2"), 0);
+  EXPECT_EQ(env.find_primitive("ring2").value, 0);
   EXPECT_EQ(env.type_name, "Environment");
   EXPECT_EQ(env.mass, 0);
   EXPECT_FALSE(env.mesh.empty());

@@ -144,7 +144,7 @@ TEST_F(PartFiles, ValidFileLoadsAndMakesParts) {
   EXPECT_DOUBLE_EQ(peg->mass, 55.5);
   EXPECT_TRUE(peg->center_of_mass.isApprox(Vec3(1, 2, 3)));
   EXPECT_FALSE(peg->mesh.empty());  // drawn from the primitives
-  EXPECT_EQ(peg->find_primitive("ring1"), 0);
+  EXPECT_EQ(peg->find_primitive("ring1").value, 0);
   EXPECT_EQ(peg->primitives[0].type, PrimitiveType::kRing);
   EXPECT_FALSE(peg->primitives[1].is_open);
   EXPECT_FALSE(peg->primitives[1].open_for_connect);  // follows is_open, as in the reference

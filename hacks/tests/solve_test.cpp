@@ -137,12 +137,12 @@ TEST(Solve, HangingSubtreesBalanceUnderTheirPivot) {
       for (int p = 0; p < a.part_count(); ++p) {
         PartId q{p};
         bool below = false;
-        while (a.node(q).parent.valid()) {
-          if (a.node(q).parent.value == static_cast<int>(c)) {
+        while (a.parent(q).valid()) {
+          if (a.parent(q).value == static_cast<int>(c)) {
             below = true;
             break;
           }
-          q = a.connection(a.node(q).parent).first.part;
+          q = a.connection(a.parent(q)).first.part;
         }
         if (!below) continue;
         const Part& part = *a.node(PartId{p}).part;
@@ -156,7 +156,7 @@ TEST(Solve, HangingSubtreesBalanceUnderTheirPivot) {
     for (std::size_t c = 0; c < a.connections().size(); ++c) {
       const Connection& conn = a.connections()[c];
       if (conn.closes_cycle) continue;
-      const std::size_t child = static_cast<std::size_t>(conn.second.part.value);
+      const std::size_t child = conn.second.part.index();
       const Vec3 com = subtree_com(c, x);
       const Mat3 r0 = a.part_frames(x)[child].topLeftCorner<3, 3>();
       for (const Connector* k : {&conn.first, &conn.second}) {

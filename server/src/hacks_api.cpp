@@ -151,7 +151,7 @@ KitApi hacks_api(const ApiContext& context) {
            return;
          }
          auto primitive_of =
-             [&](const json& j, std::shared_ptr<Part>& part, int& index, std::string& why) {
+             [&](const json& j, std::shared_ptr<Part>& part, PrimitiveId& index, std::string& why) {
                if (!j.is_object() || !j.contains("part") || !j["part"].is_string() ||
                    !j.contains("primitive") || !j["primitive"].is_string()) {
                  why = "each primitive is {\"part\": name, \"primitive\": name, \"params\": {...}}";
@@ -174,7 +174,7 @@ KitApi hacks_api(const ApiContext& context) {
                  return false;
                }
                index = part->find_primitive(j["primitive"].get<std::string>());
-               if (index < 0) {
+               if (!index.valid()) {
                  why = fmt::format("{} has no primitive '{}' (it has {})",
                                    part->type_name,
                                    j["primitive"].get<std::string>(),
@@ -193,7 +193,7 @@ KitApi hacks_api(const ApiContext& context) {
            return;
          }
          std::shared_ptr<Part> pa;
-         int ia = -1;
+         PrimitiveId ia;
          std::string why;
          if (!primitive_of(body["a"], pa, ia, why)) {
            reply_error(res, 400, why);
@@ -202,13 +202,13 @@ KitApi hacks_api(const ApiContext& context) {
          json out = json::array();
          for (const json& jb : body["b"]) {
            std::shared_ptr<Part> pb;
-           int ib = -1;
+           PrimitiveId ib;
            if (!primitive_of(jb, pb, ib, why)) {
              out.push_back({{"ok", false}, {"reason", why}});
              continue;
            }
-           const Primitive& a = pa->primitives[static_cast<std::size_t>(ia)];
-           const Primitive& b = pb->primitives[static_cast<std::size_t>(ib)];
+           const Primitive& a = pa->primitive(ia);
+           const Primitive& b = pb->primitive(ib);
            const std::string la = fmt::format("{}.{}", pa->type_name, a.name);
            const std::string lb = fmt::format("{}.{}", pb->type_name, b.name);
            if (!pair_allowed(a.type, b.type)) {

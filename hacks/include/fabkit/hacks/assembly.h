@@ -16,37 +16,27 @@
 
 #include "fabkit/core/diagnostics.h"
 #include "fabkit/core/frame.h"
+#include "fabkit/core/ids.h"
+#include "fabkit/core/kinematic_graph.h"
 #include "fabkit/hacks/connection_rules.h"
 #include "fabkit/hacks/connector_frame.h"
 #include "fabkit/hacks/part.h"
 
 namespace fabkit::hacks {
 
-struct PartId {
-  int value = -1;
-  bool valid() const { return value >= 0; }
-  auto operator<=>(const PartId&) const = default;
-};
-
-struct ConnectionId {
-  int value = -1;
-  bool valid() const { return value >= 0; }
-  auto operator<=>(const ConnectionId&) const = default;
-};
-
 /// A primitive of a part instance: what connect() takes. The shared_ptr identifies the
 /// instance (two DoubleHook() calls are two parts).
 struct PrimitiveRef {
   std::shared_ptr<Part> part;
-  int index = -1;
-  std::string requested;  ///< the name asked for, kept for diagnostics when index is -1
+  PrimitiveId index;
+  std::string requested;  ///< the name asked for, kept for diagnostics when index is invalid
 
   PrimitiveRef() = default;
-  PrimitiveRef(std::shared_ptr<Part> p, int i) : part(std::move(p)), index(i) {}
-  /// Looks the primitive up by name ("hole" and "ring" alias); index -1 if unknown.
+  PrimitiveRef(std::shared_ptr<Part> p, PrimitiveId i) : part(std::move(p)), index(i) {}
+  /// Looks the primitive up by name ("hole" and "ring" alias); index invalid if unknown.
   PrimitiveRef(std::shared_ptr<Part> p, std::string_view name);
   bool valid() const;
-  const Primitive& primitive() const { return part->primitives[static_cast<std::size_t>(index)]; }
+  const Primitive& primitive() const { return part->primitive(index); }
 };
 
 /// Options of the verification run by every connect().
@@ -71,7 +61,7 @@ struct ConnectOptions {
 /// live at [offset, offset + params.size()) of the assembly's parameter vector.
 struct Connector {
   PartId part;
-  int primitive = -1;
+  PrimitiveId primitive;
   int offset = 0;
   std::vector<ParamSpec> params;
   Rigid<double> base;  ///< the primitive's base frame in its part (cached)
@@ -90,11 +80,18 @@ struct Connection {
 
 /// A part instance in the assembly.
 struct PartNode {
-  std::shared_ptr<Part> part;
+  /// The assembly's own copy of the part (placing a primitive of a loose-primitive
+  /// environment changes the copy, never the caller's part).
+  std::shared_ptr<const Part> part;
+  /// The caller's part: what identifies this instance in connect() and find() (held, so that
+  /// its address cannot be reused by another part while the assembly lives).
+  std::shared_ptr<const Part> source;
   bool environment = false;
   Frame frame;              ///< environments: fixed world frame
   Rigid<double> placement;  ///< `frame` as a transform (cached)
-  ConnectionId parent;      ///< tree edge to the parent (invalid for environments)
+  /// Loose-primitive environments placed one primitive at a time (paper App. B.2): which
+  /// primitives have been placed. Empty: the whole part is placed.
+  std::vector<bool> placed;
 };
 
 /// A parameter of the assembly's vector with its owner, for messages and front ends.
@@ -102,7 +99,7 @@ struct ParamInfo {
   ParamSpec spec;
   ConnectionId connection;
   PartId part;
-  int primitive = -1;
+  PrimitiveId primitive;
 };
 
 /// Outcome of one add / connect.
@@ -127,7 +124,7 @@ struct ConnectReport {
 /// The target of end_with: a primitive and where it should be.
 struct Target {
   std::shared_ptr<Part> part;
-  int primitive = 0;
+  PrimitiveId primitive{0};
   Frame frame;  ///< world frame the target primitive should reach
 };
 
@@ -158,31 +155,27 @@ class Assembly {
 
   // ---- the model -------------------------------------------------------------------------
   int part_count() const { return static_cast<int>(parts_.size()); }
-  const PartNode& node(PartId id) const { return parts_.at(static_cast<std::size_t>(id.value)); }
+  const PartNode& node(PartId id) const { return parts_.at(id.index()); }
   const std::vector<PartNode>& nodes() const { return parts_; }
   std::optional<PartId> find(const Part* part) const;
   /// "eyehook1" (instance name), "Basket" (only one of its type) or "DoubleHook#2".
   std::string label(PartId id) const;
   /// "DoubleHook#2.hook1".
-  std::string label(PartId id, int primitive) const;
+  std::string label(PartId id, PrimitiveId primitive) const;
+  /// The parts and connections as a graph (tree edges and cycle edges).
+  const KinematicGraph& graph() const { return graph_; }
+  /// The tree edge above a part (invalid for environments).
+  ConnectionId parent(PartId id) const { return graph_.parent_edge(id); }
 
   const std::vector<Connection>& connections() const { return connections_; }
-  const Connection& connection(ConnectionId id) const {
-    return connections_.at(static_cast<std::size_t>(id.value));
-  }
+  const Connection& connection(ConnectionId id) const { return connections_.at(id.index()); }
   /// Cycle-closing connections, in program order.
   std::vector<ConnectionId> cycle_connections() const;
   /// Parts on the cycle closed by `c`, as "Rods.rod1 – HookEye#1 – Basket – …".
   std::string describe_cycle(ConnectionId c) const;
-  /// The loop closed by `c` as two tree paths: each starts at one side's part and climbs
-  /// to the top of the loop, the lowest common ancestor (shared as both paths' last
-  /// element) or, for a loop through two environments, each side's environment.
-  struct CyclePath {
-    std::vector<PartId> first_side;
-    std::vector<PartId> second_side;
-    bool common_ancestor = false;
-  };
-  CyclePath cycle_path(ConnectionId c) const;
+  /// The loop closed by `c` as two tree paths (KinematicGraph::cycle_path).
+  using CyclePath = KinematicGraph::CyclePath;
+  CyclePath cycle_path(ConnectionId c) const { return graph_.cycle_path(c); }
 
   int parameter_count() const { return static_cast<int>(params_.size()); }
   const std::vector<ParamInfo>& parameters() const { return params_; }
@@ -210,24 +203,49 @@ class Assembly {
                                                   const T* x) const;
 
   /// Available critical dimension of a primitive (§4.3); empty if it has none.
-  std::vector<double> available_critical_dim(PartId id, int primitive) const;
+  std::vector<double> available_critical_dim(PartId id, PrimitiveId primitive) const;
 
   const std::optional<Target>& target() const { return target_; }
   /// Connections involving a primitive.
-  std::vector<ConnectionId> connections_of(PartId id, int primitive) const;
+  std::vector<ConnectionId> connections_of(PartId id, PrimitiveId primitive) const;
 
  private:
+  // connect(), step by step: which side is in, the rules, recording, the cycle checks.
+  struct ConnectPlan {
+    PrimitiveRef first;   ///< the primitive already in the assembly
+    PrimitiveRef second;  ///< the new primitive (or the other end of a closing connect)
+    PartId first_part;
+    PartId second_part;  ///< for a new part: set once it joins the trial copy
+    bool closes_cycle = false;
+  };
+  std::optional<ConnectPlan> plan_connect(const PrimitiveRef& a,
+                                          const PrimitiveRef& b,
+                                          const SourceLocation& where,
+                                          Diagnostics& diags) const;
+  bool check_connect_rules(const ConnectPlan& plan,
+                           const std::string& l1,
+                           const std::string& l2,
+                           const SourceLocation& where,
+                           Diagnostics& diags) const;
+  ConnectionId record_connection(ConnectPlan& plan, const ConnectOptions& options);
+  bool verify_closure(ConnectionId id, const ConnectOptions& options, ConnectReport& report);
+
   struct PrimitiveState {
     std::vector<double> available;  ///< available critical dimension
     int connections = 0;
   };
 
-  PartId insert_part(std::shared_ptr<Part> part, bool environment, const Frame& frame);
-  Connector make_connector(PartId part, int primitive, std::vector<ParamSpec> params);
+  PartId insert_part(const std::shared_ptr<Part>& part,
+                     bool environment,
+                     const Frame& frame,
+                     PartId parent_part = {},
+                     ConnectionId parent = {});
+  Connector make_connector(PartId part, PrimitiveId primitive, std::vector<ParamSpec> params);
   template <class T>
   Rigid<T> connector_world(const Connector& c, const Rigid<T>& part_frame, const T* x) const;
 
   std::vector<PartNode> parts_;
+  KinematicGraph graph_;
   std::vector<std::vector<PrimitiveState>> primitive_state_;
   std::vector<Connection> connections_;
   std::vector<ParamInfo> params_;
@@ -239,8 +257,7 @@ class Assembly {
 
 template <class T>
 Rigid<T> Assembly::connector_world(const Connector& c, const Rigid<T>& frame, const T* x) const {
-  const Primitive& p = parts_[static_cast<std::size_t>(c.part.value)]
-                           .part->primitives[static_cast<std::size_t>(c.primitive)];
+  const Primitive& p = parts_[c.part.index()].part->primitive(c.primitive);
   Rigid<T> m = frame.then(c.base);
   apply_connector<T>(p.connector_kind(), p.shape, x + c.offset, m);
   return m;
@@ -248,10 +265,11 @@ Rigid<T> Assembly::connector_world(const Connector& c, const Rigid<T>& frame, co
 
 template <class T>
 Rigid<T> Assembly::part_frame(PartId id, const T* x) const {
-  const PartNode& n = parts_[static_cast<std::size_t>(id.value)];
-  if (!n.parent.valid()) return n.placement.template cast<T>();
-  const Connection& c = connections_[static_cast<std::size_t>(n.parent.value)];
-  const Primitive& child = n.part->primitives[static_cast<std::size_t>(c.second.primitive)];
+  const PartNode& n = parts_[id.index()];
+  const ConnectionId up = graph_.parent_edge(id);
+  if (!up.valid()) return n.placement.template cast<T>();
+  const Connection& c = connections_[up.index()];
+  const Primitive& child = n.part->primitive(c.second.primitive);
   // Q = P · C_first · A · C_second⁻¹
   Rigid<T> child_connector = c.second.base.template cast<T>();
   apply_connector<T>(child.connector_kind(), child.shape, x + c.second.offset, child_connector);
@@ -264,17 +282,18 @@ std::vector<Rigid<T>> Assembly::all_part_frames(const T* x) const {
   std::vector<Rigid<T>> out;
   out.reserve(parts_.size());
   // Parents always precede children in insertion order.
-  for (const PartNode& n : parts_) {
-    if (!n.parent.valid()) {
+  for (std::size_t i = 0; i < parts_.size(); ++i) {
+    const PartNode& n = parts_[i];
+    const ConnectionId up = graph_.parent_edge(PartId{static_cast<int>(i)});
+    if (!up.valid()) {
       out.push_back(n.placement.template cast<T>());
       continue;
     }
-    const Connection& c = connections_[static_cast<std::size_t>(n.parent.value)];
-    const Primitive& child = n.part->primitives[static_cast<std::size_t>(c.second.primitive)];
+    const Connection& c = connections_[up.index()];
+    const Primitive& child = n.part->primitive(c.second.primitive);
     Rigid<T> child_connector = c.second.base.template cast<T>();
     apply_connector<T>(child.connector_kind(), child.shape, x + c.second.offset, child_connector);
-    out.push_back(connector_world<T>(c.first, out[static_cast<std::size_t>(c.first.part.value)], x)
-                      .then(c.offset_rigid) *
+    out.push_back(connector_world<T>(c.first, out[c.first.part.index()], x).then(c.offset_rigid) *
                   child_connector.inverse());
   }
   return out;
@@ -284,15 +303,14 @@ template <class T>
 std::pair<Rigid<T>, Rigid<T>> Assembly::connection_frames(ConnectionId id,
                                                           const std::vector<Rigid<T>>& frames,
                                                           const T* x) const {
-  const Connection& c = connections_[static_cast<std::size_t>(id.value)];
-  return {connector_world<T>(c.first, frames[static_cast<std::size_t>(c.first.part.value)], x)
-              .then(c.offset_rigid),
-          connector_world<T>(c.second, frames[static_cast<std::size_t>(c.second.part.value)], x)};
+  const Connection& c = connections_[id.index()];
+  return {connector_world<T>(c.first, frames[c.first.part.index()], x).then(c.offset_rigid),
+          connector_world<T>(c.second, frames[c.second.part.index()], x)};
 }
 
 template <class T>
 std::pair<Rigid<T>, Rigid<T>> Assembly::connection_frames(ConnectionId id, const T* x) const {
-  const Connection& c = connections_[static_cast<std::size_t>(id.value)];
+  const Connection& c = connections_[id.index()];
   const Rigid<T> first =
       connector_world<T>(c.first, part_frame<T>(c.first.part, x), x).then(c.offset_rigid);
   const Rigid<T> second = connector_world<T>(c.second, part_frame<T>(c.second.part, x), x);

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "fabkit/core/ids.h"
 #include "fabkit/core/mesh.h"
 #include "fabkit/hacks/primitive.h"
 
@@ -38,9 +39,10 @@ struct Part {
   /// Values of a parametric part's parameters (empty for fixed parts).
   std::map<std::string, double> params;
 
-  /// Index of the primitive called `name`, or -1. "holeN" and "ringN" name the same
+  /// The primitive called `name` (invalid id if none). "holeN" and "ringN" name the same
   /// primitive (the paper calls rings holes).
-  int find_primitive(std::string_view name) const;
+  PrimitiveId find_primitive(std::string_view name) const;
+  const Primitive& primitive(PrimitiveId id) const { return primitives.at(id.index()); }
   /// "hook1, hook2" for messages.
   std::string primitive_list() const;
 };

@@ -1,0 +1,125 @@
+#pragma once
+/// Optimisation on a constraint manifold, for any kit: every iterate keeps the equality
+/// constraints h(z) = 0 exactly (a trial step is projected back by minimum-norm Gauss-Newton,
+/// which tolerates redundant equations), bounds lo ≤ z ≤ hi are an active set, and inequality
+/// rows g(z) ≤ 0 join the equalities while they bind. Steps are taken in the null space of
+/// the active constraints:
+///  - fit(): Levenberg-Marquardt on least-squares residuals r(z) (f = ½‖r‖²);
+///  - relax(): Newton on a scalar potential f(z) with the Hessian of the Lagrangian (finite
+///    differences of exact gradients), eigenvalues made positive so every step descends;
+///  - close(): Levenberg-Marquardt on h alone, from an arbitrary point.
+/// Dense Eigen throughout: the kits' problems have tens to a few hundred variables.
+
+#include <Eigen/Dense>
+#include <chrono>
+#include <optional>
+#include <vector>
+
+namespace fabkit::solvers {
+
+/// The functions a ManifoldSolver works with, in scaled coordinates z (≈ mm of motion).
+/// Rows, in order: the objective (1 row: a potential; more: least-squares residuals), the
+/// equalities h(z) = 0, then the inequalities g(z) ≤ 0.
+class ManifoldProblem {
+ public:
+  virtual ~ManifoldProblem() = default;
+  virtual int variables() const = 0;
+  virtual int objectives() const = 0;
+  virtual int equalities() const = 0;
+  virtual int inequalities() const = 0;
+  /// Values of every row and the row-major Jacobian (rows × variables) at z.
+  virtual void evaluate(const double* z, double* values, double* jacobian) = 0;
+};
+
+struct ManifoldSolverOptions {
+  /// Converged when the slope of the objective along every allowed motion is below this.
+  double gradient_tolerance = 1e-9;
+  /// Equalities count as satisfied below this (mm, degrees).
+  double feasibility_tolerance = 1e-10;
+  /// Projection gives up above this after its iterations.
+  double projection_tolerance = 1e-7;
+  /// Inequality rows within this of binding are treated as active.
+  double inequality_margin = 1e-6;
+  /// Curvatures below this (relative to the largest) are neutral: no step along them.
+  double neutral_curvature = 1e-8;
+  /// Stop at this time (servers, time limits). None: no limit.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
+};
+
+class ManifoldSolver {
+ public:
+  /// A point with everything the solver needs about it.
+  struct Point {
+    Eigen::VectorXd z;
+    bool valid = true;
+    double f = 0;        ///< objective: ½‖r‖² or the potential
+    Eigen::VectorXd g;   ///< its gradient
+    Eigen::VectorXd r;   ///< least-squares residuals (fit only)
+    Eigen::MatrixXd Jr;  ///< their Jacobian
+    Eigen::VectorXd h;   ///< equalities, then the binding inequalities
+    Eigen::MatrixXd J;   ///< their Jacobian
+  };
+  /// The motions allowed at a point.
+  struct Active {
+    std::vector<int> free;  ///< coordinates that may move (off their bounds, or pulled off)
+    Eigen::MatrixXd Z;      ///< orthonormal basis of the null space of the constraints on them
+  };
+  struct Result {
+    Eigen::VectorXd z;
+    bool converged = true;  ///< stopped by a tolerance, not by the iteration limit
+    bool closed = true;     ///< the equalities hold
+    bool timed_out = false;
+    int iterations = 0;
+  };
+
+  ManifoldSolver(ManifoldProblem& problem,
+                 Eigen::VectorXd lo,
+                 Eigen::VectorXd hi,
+                 ManifoldSolverOptions options = {});
+
+  /// Closes the equalities from an arbitrary point inside the bounds. Returns false if they
+  /// stay open; `z` holds the closed point otherwise.
+  bool close(Eigen::VectorXd& z, int max_iterations);
+  /// Least squares on the manifold from z0. A start whose objective is still above `give_up`
+  /// after 15 iterations is abandoned (a random start that will not beat the best).
+  Result fit(const Eigen::VectorXd& z0,
+             int max_iterations,
+             double give_up = std::numeric_limits<double>::infinity());
+  /// Minimises the potential on the manifold from z0.
+  Result relax(const Eigen::VectorXd& z0, int max_iterations);
+
+  // ---- the pieces, for verdicts built on top (stability tests, second-order checks) --------
+  Point evaluate(const Eigen::VectorXd& z);
+  /// Coordinates at a bound stay there unless the objective, after the constraints take their
+  /// share, pulls them back inside.
+  Active active_set(const Point& p) const;
+  /// Coordinates not at a bound.
+  std::vector<int> off_bounds(const Point& p) const;
+  /// -1 at the lower bound, +1 at the upper, 0 inside.
+  int at_bound(const Eigen::VectorXd& z, int k) const;
+  /// Hessian of f − λᵀh on the free coordinates (finite differences of exact gradients).
+  Eigen::MatrixXd lagrangian_hessian(const Point& p, const Active& act);
+  /// Minimum-norm Gauss-Newton back onto h = 0, moving only coordinates off their bounds.
+  bool project(Point& p);
+  const Eigen::VectorXd& lower() const { return lo_; }
+  const Eigen::VectorXd& upper() const { return hi_; }
+
+  static Eigen::MatrixXd columns(const Eigen::MatrixXd& m, const std::vector<int>& cols);
+  static Eigen::VectorXd rows(const Eigen::VectorXd& v, const std::vector<int>& idx);
+  /// Orthonormal basis of the null space of m; all of Rⁿ if m has no rows.
+  static Eigen::MatrixXd null_space(const Eigen::MatrixXd& m);
+
+ private:
+  bool out_of_time() const;
+  Point step(const Point& from, const Active& act, const Eigen::VectorXd& dF);
+  Eigen::VectorXd multipliers(const Point& p, const std::vector<int>& free) const;
+  Result finish(const Point& cur, int iterations, int max_iterations, Result out) const;
+
+  ManifoldProblem& problem_;
+  int n_;
+  Eigen::VectorXd lo_, hi_;
+  ManifoldSolverOptions options_;
+  std::vector<double> values_, jacobian_;
+};
+
+}  // namespace fabkit::solvers

@@ -1,0 +1,303 @@
+#include "fabkit/core/solvers/manifold_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace fabkit::solvers {
+
+using Clock = std::chrono::steady_clock;
+
+ManifoldSolver::ManifoldSolver(ManifoldProblem& problem,
+                               Eigen::VectorXd lo,
+                               Eigen::VectorXd hi,
+                               ManifoldSolverOptions options)
+    : problem_(problem),
+      n_(problem.variables()),
+      lo_(std::move(lo)),
+      hi_(std::move(hi)),
+      options_(options) {}
+
+bool ManifoldSolver::out_of_time() const {
+  return options_.deadline && Clock::now() > *options_.deadline;
+}
+
+Eigen::MatrixXd ManifoldSolver::columns(const Eigen::MatrixXd& m, const std::vector<int>& cols) {
+  Eigen::MatrixXd out(m.rows(), static_cast<int>(cols.size()));
+  for (std::size_t i = 0; i < cols.size(); ++i) out.col(static_cast<int>(i)) = m.col(cols[i]);
+  return out;
+}
+
+Eigen::VectorXd ManifoldSolver::rows(const Eigen::VectorXd& v, const std::vector<int>& idx) {
+  Eigen::VectorXd out(static_cast<int>(idx.size()));
+  for (std::size_t i = 0; i < idx.size(); ++i) out[static_cast<int>(i)] = v[idx[i]];
+  return out;
+}
+
+Eigen::MatrixXd ManifoldSolver::null_space(const Eigen::MatrixXd& m) {
+  const int n = static_cast<int>(m.cols());
+  if (m.rows() == 0 || n == 0) return Eigen::MatrixXd::Identity(n, n);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(m, Eigen::ComputeFullV);
+  const Eigen::VectorXd& sv = svd.singularValues();
+  const double tol = std::max(1e-12, 1e-9 * (sv.size() ? sv[0] : 0.0));
+  int rank = 0;
+  for (int i = 0; i < sv.size(); ++i) rank += sv[i] > tol ? 1 : 0;
+  return svd.matrixV().rightCols(n - rank);
+}
+
+int ManifoldSolver::at_bound(const Eigen::VectorXd& z, int k) const {
+  const double tol = 1e-9 * std::max(1.0, hi_[k] - lo_[k]);
+  if (std::isfinite(lo_[k]) && z[k] <= lo_[k] + tol) return -1;
+  if (std::isfinite(hi_[k]) && z[k] >= hi_[k] - tol) return +1;
+  return 0;
+}
+
+std::vector<int> ManifoldSolver::off_bounds(const Point& p) const {
+  std::vector<int> f;
+  for (int k = 0; k < n_; ++k) {
+    if (at_bound(p.z, k) == 0) f.push_back(k);
+  }
+  return f;
+}
+
+// Least-squares multipliers: g_F ≈ J_Fᵀ λ.
+Eigen::VectorXd ManifoldSolver::multipliers(const Point& p, const std::vector<int>& free) const {
+  if (p.J.rows() == 0) return Eigen::VectorXd();
+  if (free.empty()) return Eigen::VectorXd::Zero(p.J.rows());
+  return columns(p.J, free).transpose().completeOrthogonalDecomposition().solve(rows(p.g, free));
+}
+
+ManifoldSolver::Active ManifoldSolver::active_set(const Point& p) const {
+  Active act;
+  const std::vector<int> off = off_bounds(p);
+  const Eigen::VectorXd lambda = multipliers(p, off);
+  const Eigen::VectorXd reduced =
+      lambda.size() ? Eigen::VectorXd(p.g - p.J.transpose() * lambda) : p.g;
+  for (int k = 0; k < n_; ++k) {
+    const int side = at_bound(p.z, k);
+    if (side == 0 || side * reduced[k] > options_.gradient_tolerance) act.free.push_back(k);
+  }
+  act.Z = null_space(columns(p.J, act.free));
+  return act;
+}
+
+ManifoldSolver::Point ManifoldSolver::evaluate(const Eigen::VectorXd& z) {
+  Point p;
+  p.z = z;
+  const int no = problem_.objectives();
+  const int m = problem_.equalities();
+  const int ni = problem_.inequalities();
+  const int total = no + m + ni;
+  values_.assign(static_cast<std::size_t>(total), 0.0);
+  jacobian_.assign(static_cast<std::size_t>(total) * static_cast<std::size_t>(n_), 0.0);
+  problem_.evaluate(z.data(), values_.data(), jacobian_.data());
+  auto value = [&](int row) { return values_[static_cast<std::size_t>(row)]; };
+  auto grad = [&](int row, int col) {
+    return jacobian_[static_cast<std::size_t>(row) * static_cast<std::size_t>(n_) +
+                     static_cast<std::size_t>(col)];
+  };
+  std::vector<int> active;
+  for (int i = 0; i < ni; ++i) {
+    if (value(no + m + i) > -options_.inequality_margin) active.push_back(no + m + i);
+  }
+  const int rows_total = m + static_cast<int>(active.size());
+  p.h.resize(rows_total);
+  p.J.resize(rows_total, n_);
+  for (int r = 0; r < rows_total; ++r) {
+    const int row = r < m ? no + r : active[static_cast<std::size_t>(r - m)];
+    // An inequality binds only while active; a satisfied one contributes 0.
+    p.h[r] = r < m ? value(row) : std::max(0.0, value(row));
+    for (int k = 0; k < n_; ++k) p.J(r, k) = grad(row, k);
+  }
+  if (no == 1) {
+    p.f = value(0);
+    p.g.resize(n_);
+    for (int k = 0; k < n_; ++k) p.g[k] = grad(0, k);
+  } else {
+    p.r.resize(no);
+    p.Jr.resize(no, n_);
+    for (int i = 0; i < no; ++i) {
+      p.r[i] = value(i);
+      for (int k = 0; k < n_; ++k) p.Jr(i, k) = grad(i, k);
+    }
+    p.f = 0.5 * p.r.squaredNorm();
+    p.g = p.Jr.transpose() * p.r;
+  }
+  return p;
+}
+
+bool ManifoldSolver::project(Point& p) {
+  for (int iter = 0; iter < 30; ++iter) {
+    if (p.h.size() == 0 || p.h.cwiseAbs().maxCoeff() < options_.feasibility_tolerance) return true;
+    const std::vector<int> free = off_bounds(p);
+    if (free.empty()) return false;
+    const Eigen::VectorXd delta = columns(p.J, free).completeOrthogonalDecomposition().solve(-p.h);
+    Eigen::VectorXd z = p.z;
+    for (std::size_t i = 0; i < free.size(); ++i) z[free[i]] += delta[static_cast<int>(i)];
+    const double before = p.h.norm();
+    p = evaluate(z.cwiseMax(lo_).cwiseMin(hi_));
+    if (p.h.norm() > before && iter > 3) return false;
+  }
+  return p.h.size() == 0 || p.h.cwiseAbs().maxCoeff() < options_.projection_tolerance;
+}
+
+ManifoldSolver::Point ManifoldSolver::step(const Point& from,
+                                           const Active& act,
+                                           const Eigen::VectorXd& dF) {
+  Eigen::VectorXd z = from.z;
+  for (std::size_t i = 0; i < act.free.size(); ++i) z[act.free[i]] += dF[static_cast<int>(i)];
+  Point trial = evaluate(z.cwiseMax(lo_).cwiseMin(hi_));
+  trial.valid = project(trial);
+  return trial;
+}
+
+Eigen::MatrixXd ManifoldSolver::lagrangian_hessian(const Point& p, const Active& act) {
+  const Eigen::VectorXd lambda = multipliers(p, act.free);
+  const int nf = static_cast<int>(act.free.size());
+  Eigen::MatrixXd H(nf, nf);
+  auto grad_l = [&](const Point& q) {
+    Eigen::VectorXd gl = q.g;
+    if (lambda.size() && q.J.rows() >= lambda.size()) {
+      gl -= q.J.topRows(lambda.size()).transpose() * lambda;
+    }
+    return rows(gl, act.free);
+  };
+  const Eigen::VectorXd g0 = grad_l(p);
+  for (int i = 0; i < nf; ++i) {
+    const int k = act.free[static_cast<std::size_t>(i)];
+    const double eps = 1e-6 * std::max(1.0, std::abs(p.z[k]));
+    Eigen::VectorXd zp = p.z;
+    zp[k] += eps;
+    H.col(i) = (grad_l(evaluate(zp)) - g0) / eps;
+  }
+  return H;
+}
+
+ManifoldSolver::Result ManifoldSolver::finish(const Point& cur,
+                                              int iterations,
+                                              int max_iterations,
+                                              Result out) const {
+  out.iterations = iterations;
+  out.converged = iterations < max_iterations;
+  out.z = cur.z;
+  out.timed_out = out_of_time();
+  return out;
+}
+
+bool ManifoldSolver::close(Eigen::VectorXd& z0, int max_iterations) {
+  Point cur = evaluate(z0.cwiseMax(lo_).cwiseMin(hi_));
+  double mu = 1e-3;
+  for (int it = 0; it < max_iterations; ++it) {
+    if (cur.h.size() == 0 || cur.h.cwiseAbs().maxCoeff() < options_.projection_tolerance) break;
+    const std::vector<int> free = off_bounds(cur);
+    if (free.empty()) return false;
+    const Eigen::MatrixXd JF = columns(cur.J, free);
+    const Eigen::MatrixXd N = JF.transpose() * JF;
+    const Eigen::VectorXd b = JF.transpose() * cur.h;
+    const double scale = std::max(1e-12, N.diagonal().maxCoeff());
+    bool moved = false;
+    for (int tries = 0; tries < 10 && !moved; ++tries) {
+      Eigen::MatrixXd M = N;
+      M.diagonal().array() += mu * scale;
+      const Eigen::VectorXd d = -M.ldlt().solve(b);
+      Eigen::VectorXd z = cur.z;
+      for (std::size_t i = 0; i < free.size(); ++i) z[free[i]] += d[static_cast<int>(i)];
+      Point trial = evaluate(z.cwiseMax(lo_).cwiseMin(hi_));
+      if (trial.h.squaredNorm() < cur.h.squaredNorm()) {
+        cur = std::move(trial);
+        mu = std::max(1e-12, mu / 3);
+        moved = true;
+      } else {
+        mu *= 8;
+      }
+    }
+    if (!moved) return false;
+  }
+  if (!project(cur)) return false;
+  z0 = cur.z;
+  return true;
+}
+
+ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
+                                           int max_iterations,
+                                           double give_up) {
+  Result out;
+  Point cur = evaluate(z0.cwiseMax(lo_).cwiseMin(hi_));
+  out.closed = project(cur);
+  if (!out.closed) {
+    out.z = cur.z;
+    return out;
+  }
+  double mu = 1e-4;
+  int it = 0;
+  for (; it < max_iterations; ++it) {
+    if (it == 15 && cur.f > give_up) break;
+    if (out_of_time()) break;
+    const Active act = active_set(cur);
+    if (act.Z.cols() == 0) break;
+    const Eigen::MatrixXd A = columns(cur.Jr, act.free) * act.Z;
+    const Eigen::VectorXd b = A.transpose() * cur.r;
+    if (b.cwiseAbs().maxCoeff() < options_.gradient_tolerance) break;
+    Eigen::MatrixXd N = A.transpose() * A;
+    const double scale = std::max(1e-12, N.diagonal().maxCoeff());
+    bool moved = false;
+    for (int tries = 0; tries < 12 && !moved; ++tries) {
+      Eigen::MatrixXd M = N;
+      M.diagonal().array() += mu * scale;
+      const Eigen::VectorXd p = -M.ldlt().solve(b);
+      Point trial = step(cur, act, act.Z * p);
+      if (trial.valid && trial.f < cur.f) {
+        moved = cur.f - trial.f > 1e-14 * std::max(1.0, cur.f);
+        cur = std::move(trial);
+        mu = std::max(1e-12, mu / 3);
+        if (!moved) break;
+        moved = true;
+      } else {
+        mu *= 8;
+      }
+    }
+    if (!moved) break;
+  }
+  return finish(cur, it, max_iterations, out);
+}
+
+ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_iterations) {
+  Result out;
+  Point cur = evaluate(z0.cwiseMax(lo_).cwiseMin(hi_));
+  out.closed = project(cur);
+  if (!out.closed) {
+    out.z = cur.z;
+    return out;
+  }
+  int it = 0;
+  for (; it < max_iterations; ++it) {
+    if (out_of_time()) break;
+    const Active act = active_set(cur);
+    if (act.Z.cols() == 0) break;
+    const Eigen::VectorXd rg = act.Z.transpose() * rows(cur.g, act.free);
+    if (rg.cwiseAbs().maxCoeff() < options_.gradient_tolerance) break;  // equilibrium
+    Eigen::MatrixXd H = act.Z.transpose() * lagrangian_hessian(cur, act) * act.Z;
+    H = 0.5 * (H + H.transpose());
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
+    const double floor =
+        std::max(1e-10, options_.neutral_curvature * eig.eigenvalues().cwiseAbs().maxCoeff());
+    const Eigen::VectorXd ev = eig.eigenvalues().cwiseAbs().cwiseMax(floor);
+    const Eigen::VectorXd p =
+        -eig.eigenvectors() * (eig.eigenvectors().transpose() * rg).cwiseQuotient(ev);
+    bool moved = false;
+    const double slope = rg.dot(p);
+    for (double alpha = 1.0; alpha > 1e-10; alpha *= 0.5) {
+      Point trial = step(cur, act, alpha * (act.Z * p));
+      if (!trial.valid) continue;
+      if (trial.f <= cur.f + 1e-4 * alpha * std::min(slope, 0.0)) {
+        moved = trial.f < cur.f;
+        cur = std::move(trial);
+        break;
+      }
+    }
+    if (!moved) break;  // no further decrease within round-off
+  }
+  return finish(cur, it, max_iterations, out);
+}
+
+}  // namespace fabkit::solvers

@@ -1,0 +1,77 @@
+#include "steps.h"
+
+namespace fabkit::hacks::detail {
+namespace {
+
+solvers::ManifoldSolverOptions solver_options(
+    std::optional<std::chrono::steady_clock::time_point> deadline) {
+  solvers::ManifoldSolverOptions o;
+  o.gradient_tolerance = kGradientTolerance;
+  o.feasibility_tolerance = kClosureTolerance;
+  o.projection_tolerance = kProjectionTolerance;
+  o.inequality_margin = kInequalityMargin;
+  o.neutral_curvature = kNeutralCurvature;
+  o.deadline = deadline;
+  return o;
+}
+
+Eigen::VectorXd lower(const Assembly& a, const Variables& v) {
+  Eigen::VectorXd lo, hi;
+  scaled_bounds(a, v, lo, hi);
+  return lo;
+}
+Eigen::VectorXd upper(const Assembly& a, const Variables& v) {
+  Eigen::VectorXd lo, hi;
+  scaled_bounds(a, v, lo, hi);
+  return hi;
+}
+
+}  // namespace
+
+AssemblySolver::AssemblySolver(const Problem& p,
+                               const Variables& v,
+                               const std::vector<double>& x,
+                               Objective o,
+                               std::optional<std::chrono::steady_clock::time_point> deadline)
+    : problem_(p),
+      vars_(v),
+      eval_(p, v, x, o),
+      solver_(eval_, lower(*p.assembly, v), upper(*p.assembly, v), solver_options(deadline)) {}
+
+bool AssemblySolver::close(std::vector<double>& x, int max_iterations) {
+  Eigen::VectorXd z = scaled(vars_, x);
+  if (!solver_.close(z, max_iterations)) return false;
+  std::vector<double> closed = x;
+  from_z(vars_, std::vector<double>(z.data(), z.data() + z.size()), closed);
+  // The minimal orientation residuals also vanish at a half turn: check the real gaps.
+  for (const ClosureGap& g : closure_gaps(*problem_.assembly, closed)) {
+    if (g.rotation_deg > kHalfTurnCheckDeg) return false;
+  }
+  x = std::move(closed);
+  return true;
+}
+
+StepResult AssemblySolver::to_step(const solvers::ManifoldSolver::Result& r,
+                                   const std::vector<double>& x0) const {
+  StepResult out;
+  out.x = x0;
+  out.closed = r.closed;
+  out.converged = r.converged;
+  out.iterations = r.iterations;
+  if (!r.closed) {
+    out.note = "the cycles could not be kept closed";
+    return out;
+  }
+  from_z(vars_, std::vector<double>(r.z.data(), r.z.data() + r.z.size()), out.x);
+  return out;
+}
+
+StepResult AssemblySolver::fit(const std::vector<double>& x0, int max_iterations, double give_up) {
+  return to_step(solver_.fit(scaled(vars_, x0), max_iterations, give_up), x0);
+}
+
+StepResult AssemblySolver::relax(const std::vector<double>& x0, int max_iterations) {
+  return to_step(solver_.relax(scaled(vars_, x0), max_iterations), x0);
+}
+
+}  // namespace fabkit::hacks::detail

@@ -1,0 +1,72 @@
+// The one translation unit where step 1's and step 2's rows are differentiated automatically
+// (Ceres), to check the analytic twist Jacobians of kinematics.h in the tests.
+#include <ceres/ceres.h>
+
+#include "kinematics.h"
+#include "solve_internal.h"
+
+namespace fabkit::hacks::detail {
+namespace {
+
+// Values and Jacobian of ManifoldCost, caching the last point.
+class ManifoldEvaluator {
+ public:
+  ManifoldEvaluator(const Problem& p, const Variables& v, std::vector<double> base, Objective o)
+      : functor_(new ManifoldCost{&p, &v, std::move(base), o}),
+        cost_(functor_),
+        rows_(functor_->residual_count()),
+        n_(static_cast<int>(v.index.size())) {
+    cost_.AddParameterBlock(n_);
+    cost_.SetNumResiduals(rows_);
+  }
+
+  void evaluate(const double* z) {
+    if (!values_.empty() && std::equal(z, z + n_, last_.begin())) return;
+    last_.assign(z, z + n_);
+    values_.assign(static_cast<std::size_t>(rows_), 0.0);
+    jacobian_.assign(static_cast<std::size_t>(rows_ * n_), 0.0);
+    const double* blocks[] = {z};
+    double* jac[] = {jacobian_.data()};
+    cost_.Evaluate(blocks, values_.data(), jac);
+  }
+  int objectives() const { return functor_->objective_count(); }
+  int equalities() const { return functor_->equality_count(); }
+  int inequalities() const { return rows_ - objectives() - equalities(); }
+  double value(int row) const { return values_[static_cast<std::size_t>(row)]; }
+  double gradient(int row, int col) const {
+    return jacobian_[static_cast<std::size_t>(row * n_ + col)];
+  }
+
+ private:
+  ManifoldCost* functor_;  // owned by cost_
+  ceres::DynamicAutoDiffCostFunction<ManifoldCost, 4> cost_;
+  int rows_;
+  int n_;
+  std::vector<double> last_, values_, jacobian_;
+};
+
+}  // namespace
+
+double jacobian_mismatch(const Assembly& assembly, const std::vector<double>& x, bool energy) {
+  const Problem p = make_problem(assembly);
+  if (!energy && !p.target) return 0;
+  const Variables vars = select_variables(assembly, energy);
+  const Objective o = energy ? Objective::kEnergy : Objective::kTarget;
+  ManifoldEvaluator automatic(p, vars, x, o);
+  AnalyticEvaluator analytic(p, vars, x, o);
+  const std::vector<double> z = to_z(vars, x);
+  automatic.evaluate(z.data());
+  analytic.evaluate(z.data());
+  const int rows = automatic.objectives() + automatic.equalities() + automatic.inequalities();
+  double largest = 1e-12;
+  double worst = 0;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < static_cast<int>(vars.index.size()); ++c) {
+      largest = std::max(largest, std::abs(automatic.gradient(r, c)));
+      worst = std::max(worst, std::abs(automatic.gradient(r, c) - analytic.gradient(r, c)));
+    }
+  }
+  return worst / largest;
+}
+
+}  // namespace fabkit::hacks::detail

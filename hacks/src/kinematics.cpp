@@ -1,0 +1,116 @@
+#include "kinematics.h"
+
+#include <ceres/jet.h>
+
+#include <cmath>
+#include <limits>
+
+namespace fabkit::hacks::detail {
+
+void local_connector_twist(const Primitive& prim, const double* q, int j, Vec3& w, Vec3& v) {
+  using Jet1 = ceres::Jet<double, 1>;
+  const int dof = connector_dof(prim.connector_kind());
+  Jet1 qj[3];
+  for (int i = 0; i < dof; ++i) qj[i] = Jet1(q[i]);
+  qj[j].v[0] = 1.0;
+  Rigid<Jet1> l;
+  apply_connector<Jet1>(prim.connector_kind(), prim.shape, qj, l);
+  Mat3 r, dr;
+  Vec3 t, dt;
+  for (int a = 0; a < 3; ++a) {
+    t[a] = l.t[a].a;
+    dt[a] = l.t[a].v[0];
+    for (int b = 0; b < 3; ++b) {
+      r(a, b) = l.R(a, b).a;
+      dr(a, b) = l.R(a, b).v[0];
+    }
+  }
+  const Mat3 omega = dr * r.transpose();
+  w = Vec3(omega(2, 1), omega(0, 2), omega(1, 0));
+  v = dt - w.cross(t);
+}
+
+Problem make_problem(const Assembly& a) {
+  Problem p;
+  p.assembly = &a;
+  p.target = make_target(a);
+  p.closures = a.cycle_connections();
+  for (ConnectionId c : p.closures) p.free_axes.push_back(free_rotation_axis(a, c));
+  p.multi = multi_connection_pairs(a);
+  for (const PartNode& n : a.nodes()) {
+    const double m = n.environment ? 0.0 : std::max(0.0, n.part->mass);
+    p.masses.push_back(m);
+    p.coms.push_back(n.part->center_of_mass);
+    p.total_mass += m;
+  }
+  return p;
+}
+
+Variables select_variables(const Assembly& a, bool physics) {
+  Variables v;
+  for (int i = 0; i < a.parameter_count(); ++i) {
+    const ParamInfo& p = a.parameters()[static_cast<std::size_t>(i)];
+    if (p.spec.constant) continue;
+    if (physics && p.spec.fixed_under_physics) continue;
+    v.index.push_back(i);
+    double scale = 1.0;
+    if (!p.spec.is_angle()) {
+      const Primitive& prim = a.node(p.part).part->primitive(p.primitive);
+      const std::vector<double> cd = prim.critical_dim();
+      double length = cd.empty() ? 100.0 : cd[0];
+      if (p.spec.name == "t" && prim.type == PrimitiveType::kClip) length = prim.shape.height;
+      if (p.spec.name == "t2" && cd.size() > 1) length = cd[1];
+      scale = 1.0 / std::max(length, 1.0);
+    }
+    v.scale.push_back(scale);
+  }
+  return v;
+}
+
+std::vector<double> to_z(const Variables& v, const std::vector<double>& x) {
+  std::vector<double> z;
+  for (std::size_t k = 0; k < v.index.size(); ++k) {
+    z.push_back(x[static_cast<std::size_t>(v.index[k])] / v.scale[k]);
+  }
+  return z;
+}
+
+void from_z(const Variables& v, const std::vector<double>& z, std::vector<double>& x) {
+  for (std::size_t k = 0; k < v.index.size(); ++k) {
+    x[static_cast<std::size_t>(v.index[k])] = z[k] * v.scale[k];
+  }
+}
+
+double max_gap(const Assembly& a, const std::vector<double>& x, double* deg) {
+  double mm = 0;
+  double angle = 0;
+  for (const ClosureGap& g : closure_gaps(a, x)) {
+    mm = std::max(mm, g.position_mm);
+    angle = std::max(angle, g.rotation_deg);
+  }
+  if (deg) *deg = angle;
+  return mm;
+}
+
+Eigen::VectorXd scaled(const Variables& vars, const std::vector<double>& x) {
+  const std::vector<double> z = to_z(vars, x);
+  return Eigen::Map<const Eigen::VectorXd>(z.data(), static_cast<int>(z.size()));
+}
+
+void scaled_bounds(const Assembly& a,
+                   const Variables& vars,
+                   Eigen::VectorXd& lo,
+                   Eigen::VectorXd& hi) {
+  const int n = static_cast<int>(vars.index.size());
+  lo = Eigen::VectorXd::Constant(n, -std::numeric_limits<double>::infinity());
+  hi = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
+  for (int k = 0; k < n; ++k) {
+    const ParamSpec& s =
+        a.parameters()[static_cast<std::size_t>(vars.index[static_cast<std::size_t>(k)])].spec;
+    if (s.tag == ParamTag::kUnbounded) continue;
+    lo[k] = s.lo / vars.scale[static_cast<std::size_t>(k)];
+    hi[k] = s.hi / vars.scale[static_cast<std::size_t>(k)];
+  }
+}
+
+}  // namespace fabkit::hacks::detail

@@ -1,0 +1,90 @@
+#include <fmt/format.h>
+
+#include "steps.h"
+
+namespace fabkit::hacks::detail {
+
+std::string slip_message(const Assembly& a, int index, bool at_upper) {
+  const ParamInfo& p = a.parameters()[static_cast<std::size_t>(index)];
+  const Connection& c = a.connection(p.connection);
+  const bool first = c.first.part == p.part && c.first.primitive == p.primitive &&
+                     index < c.first.offset + static_cast<int>(c.first.params.size());
+  const Connector& other = first ? c.second : c.first;
+  const std::string owner = a.label(p.part, p.primitive);
+  const std::string guest = a.label(other.part, other.primitive);
+  const double bound = at_upper ? p.spec.hi : p.spec.lo;
+  const Primitive& prim = a.node(p.part).part->primitive(p.primitive);
+  if (prim.type == PrimitiveType::kHemisphere) {
+    return fmt::format(
+        "{} tips over on {} ({} = {:g}°)", a.label(p.part), owner, p.spec.name, bound);
+  }
+  if (p.spec.is_angle()) {
+    return fmt::format("{} slides off the open end of {} (θ = {:g}°)", guest, owner, bound);
+  }
+  return fmt::format(
+      "{} slides off the open end of {} ({} = {:g})", guest, owner, p.spec.name, bound);
+}
+
+StepResult run_step2(const Problem& p,
+                     const Variables& vars,
+                     const std::vector<double>& x1,
+                     const SolveOptions& o) {
+  if (vars.index.empty() || p.total_mass <= 0) {
+    StepResult out;
+    out.x = x1;
+    return out;
+  }
+  AssemblySolver solver(p, vars, x1, Objective::kEnergy, o.deadline);
+  return solver.relax(x1, o.max_iterations);
+}
+
+StabilityReport check_stability(const Problem& p,
+                                const Variables& vars,
+                                const std::vector<double>& x,
+                                const SolveOptions& o) {
+  if (vars.index.empty() || p.total_mass <= 0) return {};
+  AssemblySolver assembly_solver(p, vars, x, Objective::kEnergy);
+  solvers::ManifoldSolver& solver = assembly_solver.solver();
+  using Point = solvers::ManifoldSolver::Point;
+  using Active = solvers::ManifoldSolver::Active;
+  using solvers::ManifoldSolver;
+  const double fall_threshold = o.fall_threshold;
+  const int n = static_cast<int>(vars.index.size());
+  StabilityReport report;
+  const Assembly& a = *p.assembly;
+  const Point pt = solver.evaluate(scaled(vars, x));
+  const Active act = solver.active_set(pt);
+  if (act.Z.cols() > 0) {
+    report.equilibrium_residual =
+        (act.Z.transpose() * ManifoldSolver::rows(pt.g, act.free)).cwiseAbs().maxCoeff();
+  }
+  const std::vector<int> off = solver.off_bounds(pt);
+  const Eigen::MatrixXd J_off = ManifoldSolver::columns(pt.J, off);
+  for (int k = 0; k < n; ++k) {
+    const int side = solver.at_bound(pt.z, k);
+    if (side == 0) continue;
+    const int index = vars.index[static_cast<std::size_t>(k)];
+    const ParamSpec& spec = a.parameters()[static_cast<std::size_t>(index)].spec;
+    if (!(side < 0 ? spec.open_at_lo : spec.open_at_hi)) continue;
+    // Move k outwards by one unit; the coordinates off their bounds follow so the cycles
+    // stay closed (minimum-norm correction). If they cannot, the move is blocked.
+    double slope = side * pt.g[k];
+    if (pt.J.rows() > 0) {
+      const Eigen::VectorXd rhs = -side * pt.J.col(k);
+      Eigen::VectorXd delta = Eigen::VectorXd::Zero(static_cast<int>(off.size()));
+      if (!off.empty()) delta = J_off.completeOrthogonalDecomposition().solve(rhs);
+      if ((J_off * delta - rhs).norm() > 1e-6 * std::max(1.0, rhs.norm())) continue;
+      slope += ManifoldSolver::rows(pt.g, off).dot(delta);
+    }
+    if (slope < -fall_threshold) {
+      Slip slip;
+      slip.connection = a.parameters()[static_cast<std::size_t>(index)].connection;
+      slip.parameter = index;
+      slip.message = slip_message(a, index, side > 0);
+      report.slips.push_back(slip);
+    }
+  }
+  return report;
+}
+
+}  // namespace fabkit::hacks::detail

@@ -1,0 +1,85 @@
+#pragma once
+// The two steps of solve() (paper §4.3.3) and the verdict, on the core ManifoldSolver:
+// step 1 reaches for the target (least squares on the constraint manifold, seeded starts),
+// step 2 relaxes under gravity (Newton on the potential), the verdict finds what slips.
+
+#include <string>
+#include <vector>
+
+#include "fabkit/hacks/solve.h"
+#include "kinematics.h"
+
+namespace fabkit::hacks::detail {
+
+struct StepResult {
+  std::vector<double> x;
+  bool converged = true;
+  bool closed = true;
+  int iterations = 0;
+  std::string note;
+};
+
+/// The ManifoldSolver on one of the assembly's problems, in the parameter vector's terms.
+class AssemblySolver {
+ public:
+  AssemblySolver(const Problem& p,
+                 const Variables& v,
+                 const std::vector<double>& x,
+                 Objective o,
+                 std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt);
+  /// Closes the cycles from an arbitrary configuration, as a random start needs; false if
+  /// they stay open (or close only at a half turn).
+  bool close(std::vector<double>& x, int max_iterations);
+  StepResult fit(const std::vector<double>& x0,
+                 int max_iterations,
+                 double give_up = std::numeric_limits<double>::infinity());
+  StepResult relax(const std::vector<double>& x0, int max_iterations);
+
+  const Problem& problem() const { return problem_; }
+  const Variables& variables() const { return vars_; }
+  solvers::ManifoldSolver& solver() { return solver_; }
+
+ private:
+  StepResult to_step(const solvers::ManifoldSolver::Result& r, const std::vector<double>& x0) const;
+
+  const Problem& problem_;
+  const Variables& vars_;
+  AnalyticEvaluator eval_;
+  solvers::ManifoldSolver solver_;
+};
+
+struct Step1Result {
+  std::vector<double> x;
+  PoseError error;
+  int starts = 0;
+  bool closed = false;
+  bool hit_iteration_limit = false;
+};
+
+/// Step 1: start 0 is the configuration the connects verified; the others are seeded random
+/// configurations, closed first.
+Step1Result run_step1(const Problem& p, const SolveOptions& o);
+
+/// Step 2: relaxation under gravity from step 1's configuration.
+StepResult run_step2(const Problem& p,
+                     const Variables& vars,
+                     const std::vector<double>& x1,
+                     const SolveOptions& o);
+
+struct StabilityReport {
+  std::vector<Slip> slips;
+  double equilibrium_residual = 0;
+};
+
+/// The verdict at x: the equilibrium residual (largest slope of the potential along the
+/// motions the connections and bounds allow) and every open bound that the potential pulls a
+/// connection out of.
+StabilityReport check_stability(const Problem& p,
+                                const Variables& vars,
+                                const std::vector<double>& x,
+                                const SolveOptions& o);
+
+/// "DoubleHook#2.hook1 slides off the open end of door.rod (t = 1)".
+std::string slip_message(const Assembly& a, int index, bool at_upper);
+
+}  // namespace fabkit::hacks::detail

@@ -1,0 +1,65 @@
+#include "target.h"
+
+namespace fabkit::hacks::detail {
+
+TargetSymmetry target_symmetry(PrimitiveType t) {
+  switch (t) {
+    case PrimitiveType::kRod:
+    case PrimitiveType::kTube:
+      return {Vec3::UnitZ(), Vec3::UnitX()};
+    case PrimitiveType::kRing:
+      return {Vec3::UnitX(), Vec3::UnitY()};
+    case PrimitiveType::kHemisphere:
+      return {Vec3::UnitZ(), std::nullopt};
+    case PrimitiveType::kClip:
+    case PrimitiveType::kSurface:
+      return {std::nullopt, Vec3::UnitZ()};
+    case PrimitiveType::kEdge:
+      return {std::nullopt, Vec3::UnitY()};
+    case PrimitiveType::kHook:
+      return {};
+  }
+  return {};
+}
+
+std::optional<TargetModel> make_target(const Assembly& a) {
+  if (!a.target()) return std::nullopt;
+  const std::optional<PartId> id = a.find(a.target()->part.get());
+  if (!id) return std::nullopt;
+  TargetModel t;
+  t.part = *id;
+  const Primitive& p = a.node(*id).part->primitive(a.target()->primitive);
+  t.base = Rigid<double>::from_matrix(p.frame.matrix());
+  t.goal = Rigid<double>::from_matrix(a.target()->frame.matrix());
+  t.symmetry = target_symmetry(p.type);
+  t.goal_turned = t.goal;
+  if (t.symmetry.half_turn_axis) {
+    t.goal_turned.R = t.goal.R * Eigen::AngleAxisd(std::numbers::pi, *t.symmetry.half_turn_axis);
+  }
+  return t;
+}
+
+PoseError pose_error(const TargetModel& t, const Rigid<double>& part_frame) {
+  const Rigid<double> actual = part_frame.then(t.base);
+  PoseError e;
+  e.position_mm = (actual.t - t.goal.t).norm();
+  auto angle_between = [](const Vec3& u, const Vec3& v) {
+    return std::atan2(u.cross(v).norm(), u.dot(v)) * kRadToDeg;
+  };
+  if (t.symmetry.free_axis) {
+    const Vec3 u = actual.R * *t.symmetry.free_axis;
+    const Vec3 g = t.goal.R * *t.symmetry.free_axis;
+    e.rotation_deg = angle_between(u, g);
+    if (t.symmetry.half_turn_axis) e.rotation_deg = std::min(e.rotation_deg, angle_between(u, -g));
+    return e;
+  }
+  auto geodesic = [&](const Mat3& goal) {
+    return Eigen::AngleAxisd(Mat3(goal.transpose() * actual.R)).angle() * kRadToDeg;
+  };
+  e.rotation_deg = geodesic(t.goal.R);
+  if (t.symmetry.half_turn_axis)
+    e.rotation_deg = std::min(e.rotation_deg, geodesic(t.goal_turned.R));
+  return e;
+}
+
+}  // namespace fabkit::hacks::detail

@@ -1,0 +1,43 @@
+#pragma once
+// The solver's tolerances, in one place, each with why it has its value. Units: mm for
+// positions, degrees for angles; "slope" is mm of mean centre-of-mass height per mm (or per
+// degree) of motion.
+
+namespace fabkit::hacks::detail {
+
+/// An objective whose slope along every allowed motion is below this has converged (step 1's
+/// least squares, step 2's potential). 1e-9 is far below the 1e-6 that counts as equilibrium
+/// in results, so a converged solve is an equilibrium with room to spare.
+inline constexpr double kGradientTolerance = 1e-9;
+
+/// Cycle closures count as closed below this (mm, degrees) inside the solvers: round-off of
+/// chains of a few hundred mm, well below the 1e-6 mm the results promise.
+inline constexpr double kClosureTolerance = 1e-10;
+
+/// A projection back onto the closures that cannot get below this has failed.
+inline constexpr double kProjectionTolerance = 1e-7;
+
+/// A spacing constraint (two connections on one primitive) within this of binding (mm) is
+/// treated as active.
+inline constexpr double kInequalityMargin = 1e-6;
+
+/// Curvatures below this fraction of the largest are neutral: the potential does not change
+/// along them (a hook on a level rod), so they get no Newton step.
+inline constexpr double kNeutralCurvature = 1e-8;
+
+/// The minimal orientation residuals of a closure also vanish at a half turn; a closed
+/// configuration whose real orientation gap exceeds this (degrees) is rejected.
+inline constexpr double kHalfTurnCheckDeg = 1e-3;
+
+/// A target reached within this (mm and degrees) cannot be improved by more starts.
+inline constexpr double kTargetReached = 1e-4;
+
+/// solve() refuses a starting configuration whose closures are open by more than this (mm):
+/// connect() verified it closed.
+inline constexpr double kStartGapMm = 1e-3;
+
+/// Below these the target's sag from step 1 to step 2 is not worth a note (mm, degrees).
+inline constexpr double kSagNoteMm = 0.05;
+inline constexpr double kSagNoteDeg = 0.05;
+
+}  // namespace fabkit::hacks::detail
