@@ -137,8 +137,8 @@ std::vector<MultiConnectionPair> multi_connection_pairs(const Assembly& a) {
   std::vector<MultiConnectionPair> out;
   for (int p = 0; p < a.part_count(); ++p) {
     const Part& part = *a.node(PartId{p}).part;
-    for (int k = 0; k < static_cast<int>(part.primitives.size()); ++k) {
-      const PrimitiveId prim{k};
+    for (int index = 0; index < static_cast<int>(part.primitives.size()); ++index) {
+      const PrimitiveId prim{index};
       const std::vector<ConnectionId> conns = a.connections_of(PartId{p}, prim);
       if (conns.size() < 2) continue;
       const Primitive& self = part.primitive(prim);

@@ -15,6 +15,7 @@
 #include "fabkit/core/names.h"
 #include "fabkit/core/text.h"
 #include "fabkit/core/yaml_reader.h"
+#include "fabkit/hacks/body_shapes.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 #include "fabkit/hacks/primitive_spec.h"
 
@@ -47,20 +48,34 @@ bool is_identifier(std::string_view s) {
 // ---------------------------------------------------------------------------------------------
 // YAML part files (docs/parts.md).
 
-constexpr std::string_view kPartKeys[] = {
-    "name", "description", "category", "mesh", "mass", "center_of_mass", "primitives"};
+constexpr std::string_view kPartKeys[] = {"name",
+                                          "aliases",
+                                          "description",
+                                          "category",
+                                          "primitives",
+                                          "mesh",
+                                          "body",
+                                          "draw_primitives",
+                                          "mass",
+                                          "center_of_mass"};
 
 // Reads one YAML part file, collecting diagnostics with file:line locations.
 class PartFileReader {
  public:
-  PartFileReader(const std::filesystem::path& path, const PartsLibrary& library, Diagnostics& diags)
-      : path_(path), library_(library), in_(path.string(), diags) {}
+  PartFileReader(std::string display_name,
+                 std::filesystem::path base_dir,
+                 const PartsLibrary& library,
+                 Diagnostics& diags)
+      : base_dir_(std::move(base_dir)), library_(library), in_(std::move(display_name), diags) {}
+
+  struct Entry {
+    Part part;
+    std::vector<std::string> aliases;
+  };
 
   // Parsed parts, or nullopt if anything was wrong.
-  std::optional<std::vector<Part>> read() {
-    const auto text = read_input_file(path_, "part file", in_.diagnostics());
-    if (!text) return std::nullopt;
-    const auto root = in_.parse_mapping(*text, "a 'parts' list");
+  std::optional<std::vector<Entry>> read(std::string_view text) {
+    const auto root = in_.parse_mapping(text, "a 'parts' list");
     if (!root) return std::nullopt;
     in_.check_keys(*root, {"fabkit", "parts"}, "a part file");
     const YAML::Node parts = (*root)["parts"];
@@ -70,7 +85,8 @@ class PartFileReader {
       in_.error(codes::kMalformedInput, "'parts' must be a list of parts", in_.at(parts));
     } else {
       for (const YAML::Node& node : parts) {
-        if (auto part = read_part(node)) result_.push_back(std::move(*part));
+        std::vector<std::string> aliases;
+        if (auto part = read_part(node, aliases)) result_.push_back({std::move(*part), aliases});
       }
     }
     if (in_.errors() > 0) return std::nullopt;
@@ -78,7 +94,7 @@ class PartFileReader {
   }
 
  private:
-  std::optional<Part> read_part(const YAML::Node& node) {
+  std::optional<Part> read_part(const YAML::Node& node, std::vector<std::string>& aliases) {
     const int errors_before = in_.errors();
     if (!in_.is_mapping(node, "each entry of 'parts'")) return std::nullopt;
     in_.check_keys(node, kPartKeys, "a part");
@@ -108,6 +124,23 @@ class PartFileReader {
       }
       part.type_name = *name;
       who = *name;
+    }
+    if (const YAML::Node al = node["aliases"]) {
+      if (in_.is_list(al, fmt::format("aliases of part {}", who))) {
+        for (const YAML::Node& a : al) {
+          auto name = in_.string(a, "alias", 128);
+          if (!name) continue;
+          if (!is_identifier(*name) || library_.find(*name) ||
+              !names_.insert(lower(*name)).second) {
+            in_.error(codes::kDuplicateName,
+                      fmt::format(
+                          "alias '{}' of part {} is not a new identifier", excerpt(*name, 40), who),
+                      in_.at(a));
+            continue;
+          }
+          aliases.push_back(*name);
+        }
+      }
     }
     if (const YAML::Node d = node["description"]) {
       if (const auto text = in_.string(d, "description")) part.description = *text;
@@ -163,7 +196,7 @@ class PartFileReader {
       mesh_where = in_.at(mn);
       if (const auto rel = in_.string(mn, "mesh")) {
         std::filesystem::path mesh_path(*rel);
-        if (mesh_path.is_relative()) mesh_path = path_.parent_path() / mesh_path;
+        if (mesh_path.is_relative()) mesh_path = base_dir_ / mesh_path;
         Diagnostics mesh_diags;
         if (auto mesh = read_mesh(mesh_path, mesh_diags)) {
           if (mesh->empty()) {
@@ -184,8 +217,17 @@ class PartFileReader {
         }
       }
     }
+    if (const YAML::Node bn = node["body"]) {
+      if (!mesh_where) mesh_where = in_.at(bn);
+      if (auto body = read_body(in_, bn, who)) part.mesh.append(*body);
+    }
+    // The primitives are drawn too, unless a scanned mesh already shows them.
+    bool draw_primitives = !node["mesh"];
+    if (const YAML::Node dp = node["draw_primitives"]) {
+      draw_primitives = in_.boolean(dp, "draw_primitives").value_or(draw_primitives);
+    }
     if (in_.errors() > errors_before) return std::nullopt;
-    if (!node["mesh"]) {
+    if (draw_primitives) {
       for (const Primitive& p : part.primitives) part.mesh.append(primitive_mesh(p));
     }
 
@@ -221,11 +263,11 @@ class PartFileReader {
     return part;
   }
 
-  std::filesystem::path path_;
+  std::filesystem::path base_dir_;
   const PartsLibrary& library_;
   YamlReader in_;
-  std::set<std::string> names_;  // lower-case part names defined in this file
-  std::vector<Part> result_;
+  std::set<std::string> names_;  // lower-case part (and alias) names defined in this file
+  std::vector<Entry> result_;
 };
 
 }  // namespace
@@ -363,12 +405,24 @@ std::shared_ptr<Part> PartsLibrary::make(std::string_view name,
 }
 
 bool PartsLibrary::load_yaml(const std::filesystem::path& path, Diagnostics& diags) {
-  PartFileReader reader(path, *this, diags);
-  auto parts = reader.read();
-  if (!parts) return false;
-  for (Part& part : *parts) {
+  const auto text = read_input_file(path, "part file", diags);
+  if (!text) return false;
+  return load_yaml_text(*text, path.string(), path.parent_path(), diags);
+}
+
+bool PartsLibrary::load_yaml_text(std::string_view text,
+                                  std::string_view display_name,
+                                  const std::filesystem::path& base_dir,
+                                  Diagnostics& diags,
+                                  PartCategory default_category) {
+  PartFileReader reader(std::string(display_name), base_dir, *this, diags);
+  auto entries = reader.read(text);
+  if (!entries) return false;
+  for (auto& [part, aliases] : *entries) {
+    if (part.category == PartCategory::kOther) part.category = default_category;
     PartGenerator g;
     g.name = part.type_name;
+    g.aliases = aliases;
     g.description = part.description;
     g.category = part.category;
     auto shared = std::make_shared<const Part>(std::move(part));
@@ -377,5 +431,4 @@ bool PartsLibrary::load_yaml(const std::filesystem::path& path, Diagnostics& dia
   }
   return true;
 }
-
 }  // namespace fabkit::hacks

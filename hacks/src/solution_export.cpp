@@ -16,10 +16,6 @@ namespace {
 
 using ordered_json = Json;
 
-ordered_json vec(const Vec3& v) {
-  return to_json(v);
-}
-
 ordered_json pose_error_json(const PoseError& e) {
   return {{"pos_error_mm", tidy(e.position_mm)}, {"rot_error_deg", tidy(e.rotation_deg)}};
 }

@@ -618,3 +618,36 @@ TEST(BuiltinParts, MakeRejectsBadInput) {
 
 }  // namespace
 }  // namespace fabkit::hacks
+
+namespace fabkit::hacks {
+namespace {
+
+// The fixed built-in parts are a part file in the users' format: it must load without a single
+// diagnostic and give every fixed part of the library, primitive for primitive.
+TEST(BuiltinParts, DataFileIsAPlainPartFile) {
+  PartsLibrary lib;
+  Diagnostics diags;
+  ASSERT_TRUE(lib.load_yaml(std::string(FABKIT_SOURCE_DIR) + "/hacks/data/parts.yaml", diags))
+      << diags.format();
+  EXPECT_TRUE(diags.empty()) << diags.format();
+  int fixed = 0;
+  for (const PartGenerator& g : PartsLibrary::builtin().generators()) {
+    if (!g.params.empty()) continue;
+    ++fixed;
+    const PartGenerator* from_file = lib.find(g.name);
+    ASSERT_NE(from_file, nullptr) << g.name;
+    EXPECT_EQ(from_file->aliases, g.aliases) << g.name;
+    const Part a = g.build({});
+    const Part b = from_file->build({});
+    ASSERT_EQ(a.primitives.size(), b.primitives.size()) << g.name;
+    for (std::size_t i = 0; i < a.primitives.size(); ++i) {
+      EXPECT_EQ(a.primitives[i].describe(), b.primitives[i].describe()) << g.name;
+    }
+    EXPECT_DOUBLE_EQ(a.mass, b.mass) << g.name;
+    EXPECT_LT((a.center_of_mass - b.center_of_mass).norm(), 1e-9) << g.name;
+  }
+  EXPECT_EQ(fixed, 54);
+}
+
+}  // namespace
+}  // namespace fabkit::hacks

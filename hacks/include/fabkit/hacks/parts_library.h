@@ -57,6 +57,13 @@ class PartsLibrary {
   /// Adds the parts described in a YAML part file (see docs/parts.md). Malformed files get
   /// file:line diagnostics and add nothing. Relative mesh paths resolve against the file.
   bool load_yaml(const std::filesystem::path& path, Diagnostics& diags);
+  /// Same from text; `display_name` names it in diagnostics, mesh paths resolve against
+  /// `base_dir`. Parts without a category get `default_category`.
+  bool load_yaml_text(std::string_view text,
+                      std::string_view display_name,
+                      const std::filesystem::path& base_dir,
+                      Diagnostics& diags,
+                      PartCategory default_category = PartCategory::kOther);
 
  private:
   std::vector<PartGenerator> generators_;
