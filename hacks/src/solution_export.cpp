@@ -5,6 +5,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "fabkit/core/export_formats.h"
 #include "fabkit/core/file_io.h"
 #include "fabkit/core/json.h"
 #include "fabkit/core/mesh_io.h"
@@ -127,12 +128,14 @@ bool export_solution(const Assembly& assembly,
   if (!make_output_directory(directory, diags)) return false;
   bool ok = write_file_atomically(
       directory / "result.json", result_json(assembly, result, options.design_name), diags);
+  // The pictures show what slips (red markers); the files to build from hold the parts only.
   const std::vector<SceneObject> scene = solution_scene(assembly, result);
-  ok = write_glb(scene, directory / "scene.glb", diags) && ok;
-  ok = write_svg_preview(scene, directory / "preview.svg", diags) && ok;
-  const TriangleMesh mesh = solution_mesh(assembly, result);
-  ok = write_stl(mesh, directory / (options.basename + ".stl"), diags) && ok;
-  ok = write_obj(mesh, directory / (options.basename + ".obj"), diags) && ok;
+  std::vector<SceneObject> parts = scene;
+  parts.resize(static_cast<std::size_t>(assembly.part_count()));
+  ok = write_scene("glb", scene, directory / "scene.glb", diags) && ok;
+  ok = write_scene("svg", scene, directory / "preview.svg", diags) && ok;
+  ok = write_scene("stl", parts, directory / (options.basename + ".stl"), diags) && ok;
+  ok = write_scene("obj", parts, directory / (options.basename + ".obj"), diags) && ok;
   return ok;
 }
 
