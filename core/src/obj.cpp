@@ -14,6 +14,7 @@
 
 #include "fabkit/core/file_io.h"
 #include "fabkit/core/mesh_io.h"
+#include "fabkit/core/text.h"
 #include "mesh_text.h"
 
 namespace fabkit {
@@ -61,13 +62,13 @@ std::optional<TriangleMesh> parse_obj(std::string_view text,
         const auto value = parse_double(t.text);
         if (!value) {
           return fail(codes::kMalformedInput,
-                      fmt::format("malformed vertex coordinate '{}'", t.text),
+                      fmt::format("malformed vertex coordinate '{}'", excerpt(t.text, 40)),
                       number,
                       t.column);
         }
         if (!std::isfinite(*value)) {
           return fail(codes::kInvalidValue,
-                      fmt::format("non-finite vertex coordinate '{}'", t.text),
+                      fmt::format("non-finite vertex coordinate '{}'", excerpt(t.text, 40)),
                       number,
                       t.column);
         }
@@ -75,10 +76,11 @@ std::optional<TriangleMesh> parse_obj(std::string_view text,
       }
       for (std::size_t k = 4; k < tokens.size(); ++k) {
         if (!parse_double(tokens[k].text)) {
-          return fail(codes::kMalformedInput,
-                      fmt::format("malformed number '{}' in vertex record", tokens[k].text),
-                      number,
-                      tokens[k].column);
+          return fail(
+              codes::kMalformedInput,
+              fmt::format("malformed number '{}' in vertex record", excerpt(tokens[k].text, 40)),
+              number,
+              tokens[k].column);
         }
       }
       mesh.vertices.push_back(p);
@@ -118,7 +120,7 @@ std::optional<TriangleMesh> parse_obj(std::string_view text,
       if (count == 2 && parts[1].empty()) v = std::nullopt;                      // "1/"
       if (!v) {
         return fail(codes::kMalformedInput,
-                    fmt::format("malformed face vertex '{}'", t.text),
+                    fmt::format("malformed face vertex '{}'", excerpt(t.text, 40)),
                     number,
                     t.column);
       }

@@ -14,6 +14,7 @@
 
 #include "fabkit/core/file_io.h"
 #include "fabkit/core/mesh_io.h"
+#include "fabkit/core/text.h"
 #include "mesh_text.h"
 
 namespace fabkit {
@@ -134,12 +135,17 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
       const Token& t = tokens[first + k];
       const auto value = parse_double(t.text);
       if (!value) {
-        fail(
-            codes::kMalformedInput, fmt::format("malformed number '{}'", t.text), number, t.column);
+        fail(codes::kMalformedInput,
+             fmt::format("malformed number '{}'", excerpt(t.text, 40)),
+             number,
+             t.column);
         return std::nullopt;
       }
       if (!std::isfinite(*value)) {
-        fail(codes::kInvalidValue, fmt::format("non-finite number '{}'", t.text), number, t.column);
+        fail(codes::kInvalidValue,
+             fmt::format("non-finite number '{}'", excerpt(t.text, 40)),
+             number,
+             t.column);
         return std::nullopt;
       }
       p[k] = *value;
@@ -154,7 +160,7 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
     const std::string keyword = lower(std::string(tokens[0].text));
     auto unexpected = [&] {
       return fail(codes::kMalformedInput,
-                  fmt::format("unexpected '{}'", tokens[0].text),
+                  fmt::format("unexpected '{}'", excerpt(tokens[0].text, 40)),
                   number,
                   tokens[0].column);
     };

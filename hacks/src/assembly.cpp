@@ -10,6 +10,7 @@
 #include "constraints.h"
 #include "cycle_closure.h"
 #include "distance_bounds.h"
+#include "fabkit/core/text.h"
 #include "fabkit/core/yaml_reader.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 
@@ -172,7 +173,7 @@ ConnectReport Assembly::add(const PrimitiveRef& primitive,
                              primitive.part
                                  ? fmt::format("add: {} has no primitive '{}' (it has {})",
                                                primitive.part->type_name,
-                                               primitive.requested,
+                                               excerpt(primitive.requested, 60),
                                                primitive.part->primitive_list())
                                  : std::string("add: no environment part given"),
                              where);
@@ -239,7 +240,7 @@ Diagnostics Assembly::end_with(const PrimitiveRef& primitive,
     diags.error(codes::kUnknownPrimitive,
                 primitive.part ? fmt::format("end_with: {} has no primitive '{}' (it has {})",
                                              primitive.part->type_name,
-                                             primitive.requested,
+                                             excerpt(primitive.requested, 60),
                                              primitive.part->primitive_list())
                                : std::string("end_with: no target part given"),
                 where);
@@ -341,7 +342,7 @@ std::optional<Assembly::ConnectPlan> Assembly::plan_connect(const PrimitiveRef& 
       diags.error(codes::kUnknownPrimitive,
                   fmt::format("connect: {} has no primitive '{}' (it has {})",
                               describe_part(*r->part),
-                              r->requested,
+                              excerpt(r->requested, 60),
                               r->part->primitive_list()),
                   where);
     }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "fabkit/core/text.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 #include "fabkit/hacks/part.h"
 #include "fabkit/hacks/primitive_spec.h"
@@ -216,7 +217,7 @@ std::optional<TriangleMesh> read_body(YamlReader& in,
       in.error(codes::kUnknownName,
                fmt::format("unknown body shape '{}' in part {}{} (shapes: box, cylinder, open_box, "
                            "sphere, torus_arc, primitive)",
-                           kind,
+                           excerpt(kind, 40),
                            owner,
                            did_you_mean(kind, kinds)),
                in.at(kv.first));

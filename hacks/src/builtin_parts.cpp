@@ -166,6 +166,18 @@ Part param_hanger_geometry(const ParamValues& v) {
   }
   if (drawable) {
     p.mesh = hanger_body(h1, h2, h3, {0, 0, -110 + v.at("height")}, bar_r);
+    // `length` is the hanger's width: the shoulder wire runs on past each bend to a flat tip at
+    // ±length/2.
+    for (const Primitive* b : {&h2, &h3}) {
+      const Vec3 p0 = hook_point(*b, 0);
+      const Vec3 p1 = hook_point(*b, b->shape.arc_angle);
+      const Vec3 upper = p0.z() > p1.z() ? p0 : p1;
+      const double side = b->frame.pos.y() >= 0 ? 1.0 : -1.0;
+      const Vec3 tip(0, side * v.at("length") / 2, upper.z());
+      if (side * (tip.y() - upper.y()) > 1e-9) {
+        p.mesh.append(cylinder_between(upper, tip, bar_r, 10));
+      }
+    }
     for (const Primitive& prim : p.primitives) p.mesh.append(primitive_mesh(prim));
     p.center_of_mass = p.mesh.centroid();
   }

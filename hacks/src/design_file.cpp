@@ -353,7 +353,7 @@ class Reader {
     const std::string s = in_.string(name, "name", 128).value_or("");
     if (s.empty() || s.find('.') != std::string::npos) {
       error(codes::kMalformedInput,
-            fmt::format("name '{}' must be non-empty and contain no '.'", s),
+            fmt::format("name '{}' must be non-empty and contain no '.'", excerpt(s, 60)),
             at(name));
       return "";
     }
@@ -403,7 +403,8 @@ class Reader {
     const auto dot = text.find('.');
     if (dot == std::string::npos) {
       error(codes::kMalformedInput,
-            fmt::format("'{}' must name a primitive as part.primitive, e.g. eyehook1.hook", text),
+            fmt::format("'{}' must name a primitive as part.primitive, e.g. eyehook1.hook",
+                        excerpt(text, 60)),
             at(n));
       return std::nullopt;
     }
@@ -414,8 +415,9 @@ class Reader {
       std::vector<std::string> names;
       for (const auto& kv : design.parts) names.push_back(kv.first);
       error(codes::kUnknownName,
-            fmt::format(
-                "no part named '{}' in this design{}", part_name, did_you_mean(part_name, names)),
+            fmt::format("no part named '{}' in this design{}",
+                        excerpt(part_name, 60),
+                        did_you_mean(part_name, names)),
             at(n));
       return std::nullopt;
     }
@@ -464,7 +466,7 @@ class Reader {
         d.options.alignment = *choice;
       } else {
         error(codes::kUnknownName,
-              fmt::format("alignment must be 'default' or 'flip', not '{}'", s),
+              fmt::format("alignment must be 'default' or 'flip', not '{}'", excerpt(s, 40)),
               at(al));
       }
     }
@@ -484,7 +486,8 @@ class Reader {
     auto it = design.parts.find(name);
     if (it == design.parts.end()) {
       error(codes::kUnknownName,
-            fmt::format("target '{}' is neither declared here (give 'part') nor under parts", name),
+            fmt::format("target '{}' is neither declared here (give 'part') nor under parts",
+                        excerpt(name, 60)),
             at(n));
       return t;
     }

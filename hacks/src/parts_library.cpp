@@ -326,7 +326,7 @@ std::shared_ptr<Part> PartsLibrary::make(std::string_view name,
                                          const SourceLocation& where) const {
   const PartGenerator* gen = find(name);
   if (gen == nullptr) {
-    std::string msg = fmt::format("unknown part '{}'", name);
+    std::string msg = fmt::format("unknown part '{}'", excerpt(name, 60));
     const std::string near = suggest(name);
     if (!near.empty()) msg += fmt::format("; did you mean {}?", near);
     diags.error(codes::kUnknownPart, std::move(msg), where);
@@ -343,9 +343,9 @@ std::shared_ptr<Part> PartsLibrary::make(std::string_view name,
     if (it == gen->params.end()) {
       std::string msg;
       if (valid.empty()) {
-        msg = fmt::format("part {} has no parameters (got '{}')", gen->name, key);
+        msg = fmt::format("part {} has no parameters (got '{}')", gen->name, excerpt(key, 60));
       } else {
-        msg = fmt::format("part {} has no parameter '{}'", gen->name, key);
+        msg = fmt::format("part {} has no parameter '{}'", gen->name, excerpt(key, 60));
         const std::string near = closest_name(key, valid);
         if (!near.empty()) msg += fmt::format(" (did you mean '{}'?)", near);
         msg += fmt::format("; valid parameters: {}", join(valid));

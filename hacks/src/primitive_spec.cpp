@@ -6,6 +6,7 @@
 #include <array>
 #include <cctype>
 
+#include "fabkit/core/text.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 
 namespace fabkit::hacks {
@@ -107,10 +108,10 @@ std::optional<Primitive> read_primitive_spec(YamlReader& in,
     if (const YAML::Node n = spec["name"]) {
       if (auto s = in.string(n, "primitive name", 128)) {
         if (!is_identifier(*s)) {
-          in.error(
-              codes::kInvalidValue,
-              fmt::format("primitive name '{}' must be an identifier (letters, digits, _)", *s),
-              in.at(n));
+          in.error(codes::kInvalidValue,
+                   fmt::format("primitive name '{}' must be an identifier (letters, digits, _)",
+                               excerpt(*s, 60)),
+                   in.at(n));
         }
         name = *s;
       }

@@ -12,4 +12,11 @@ namespace fabkit::hacks::detail {
 /// relative to the largest entry.
 double jacobian_mismatch(const Assembly& assembly, const std::vector<double>& x, bool energy);
 
+/// Largest difference between the analytic Jacobian and central finite differences of the
+/// rows' values (step `h` in scaled units), relative to the largest entry.
+double finite_difference_mismatch(const Assembly& assembly,
+                                  const std::vector<double>& x,
+                                  bool energy,
+                                  double h = 1e-6);
+
 }  // namespace fabkit::hacks::detail

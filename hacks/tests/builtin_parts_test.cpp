@@ -163,8 +163,12 @@ const std::vector<Row>& table() {
   return rows;
 }
 
-#define REQUIRE_TABLE()                                                 \
-  if (table().empty()) GTEST_SKIP() << "reference table not available"; \
+// The table is test data: without it the tests fail (they must never pass by skipping).
+#define REQUIRE_TABLE()                                                                      \
+  if (table().empty()) {                                                                     \
+    FAIL() << "the reference table is missing: " FABKIT_SHARED_DIR                           \
+              "/reference/fabhacks-reference.md (§10.2) must be beside the project to test"; \
+  }                                                                                          \
   static_assert(true)
 
 std::optional<PrimitiveType> table_type(const std::string& t) {
@@ -425,30 +429,9 @@ TEST(BuiltinParts, ParamTurnbuckle) {
   EXPECT_GT(fig11->mesh.bounds_max().y(), def->mesh.bounds_max().y() + 12);
 }
 
-// ParamHanger primitives from the formulas in its table row.
-struct HangerExpect {
-  double hook1_r, hook1_z, bar_r, rod_l, bend_r, bottom_l;
-};
-HangerExpect hanger_formulas(const ParamValues& v) {
-  const double bar_r = v.at("bar_d") / 2;
-  const double bend_r = v.at("bend_d") / 2;
-  const double plate_h = 2 * v.at("bar_d") + 9;
-  double bottom_l = v.at("length") / 2 - bend_r - plate_h / 2;
-  double rod_l = 2 * bottom_l;
-  if (rod_l > 20) {
-    rod_l -= 10;
-    bottom_l -= 5;
-  }
-  return {v.at("hook_d") / 2,
-          v.at("hook_h") - v.at("hook_d") / 2 - bar_r,
-          bar_r,
-          rod_l,
-          bend_r,
-          bottom_l};
-}
-
-void expect_hanger(const Part& part, const ParamValues& v) {
-  const HangerExpect e = hanger_formulas(v);
+// A ParamHanger as it measures: width, hook and bends, from its mesh and primitives, against
+// the parameters that name them (docs/parts.md).
+void expect_hanger_measures(const Part& part, const ParamValues& v) {
   ASSERT_EQ(part.primitives.size(), 4u);
   const Primitive& h1 = part.primitives[0];
   const Primitive& rod = part.primitives[1];
@@ -458,38 +441,23 @@ void expect_hanger(const Part& part, const ParamValues& v) {
   EXPECT_EQ(rod.name, "rod");
   EXPECT_EQ(h2.name, "hook2");
   EXPECT_EQ(h3.name, "hook3");
-  EXPECT_EQ(h1.type, PrimitiveType::kHook);
-  EXPECT_EQ(rod.type, PrimitiveType::kRod);
-  EXPECT_EQ(h2.type, PrimitiveType::kHook);
-  EXPECT_EQ(h3.type, PrimitiveType::kHook);
-  EXPECT_NEAR(h1.shape.arc_radius, e.hook1_r, kTol);
-  EXPECT_NEAR(h1.shape.arc_angle, 180, kTol);
-  EXPECT_NEAR(h1.shape.thickness, e.bar_r, kTol);
-  EXPECT_NEAR((h1.frame.pos - Vec3(0, 0, e.hook1_z)).norm(), 0, kTol);
-  EXPECT_LT((rotation(h1.frame.rot) - rotation(Vec3(-45, 0, 0))).cwiseAbs().maxCoeff(), kTol);
-  EXPECT_TRUE(h1.is_open);
-  EXPECT_NEAR(rod.shape.length, e.rod_l, kTol);
-  EXPECT_NEAR(rod.shape.radius, e.bar_r, kTol);
-  EXPECT_NEAR((rod.frame.pos - Vec3(0, 0, -110)).norm(), 0, kTol);
-  EXPECT_LT((rotation(rod.frame.rot) - rotation(Vec3(-90, 180, 0))).cwiseAbs().maxCoeff(), kTol);
+  // length: the width the mesh measures, tip to tip (y).
+  EXPECT_NEAR(part.mesh.bounds_max().y() - part.mesh.bounds_min().y(), v.at("length"), 0.05);
+  // hook_d: the top hook's inner diameter is the hook size asked; hook_h: its top's height.
+  EXPECT_NEAR(2 * h1.shape.arc_radius, v.at("hook_d"), 1e-9);
+  EXPECT_NEAR(part.mesh.bounds_max().z(), v.at("hook_h"), 0.05);
+  // bar_d: the wire everywhere; bend_d: the bends' diameter.
+  for (const Primitive* p : {&h1, &h2, &h3})
+    EXPECT_NEAR(2 * p->shape.thickness, v.at("bar_d"), 1e-9);
+  EXPECT_NEAR(2 * rod.shape.radius, v.at("bar_d"), 1e-9);
+  EXPECT_NEAR(2 * h2.shape.arc_radius, v.at("bend_d"), 1e-9);
+  EXPECT_NEAR(2 * h3.shape.arc_radius, v.at("bend_d"), 1e-9);
+  // The bottom bar runs between the bends, symmetric about the middle, inside the width.
+  EXPECT_NEAR(h2.frame.pos.y(), -h3.frame.pos.y(), 1e-9);
+  EXPECT_LE(rod.shape.length, std::abs(h2.frame.pos.y() - h3.frame.pos.y()) + 1e-9);
+  EXPECT_LT(std::abs(h2.frame.pos.y()) + h2.shape.arc_radius, v.at("length") / 2);
   EXPECT_FALSE(rod.is_open);
-  EXPECT_FALSE(rod.open_for_connect);
-  for (const Primitive* h : {&h2, &h3}) {
-    EXPECT_NEAR(h->shape.arc_radius, e.bend_r, kTol);
-    EXPECT_NEAR(h->shape.arc_angle, 160, kTol);
-    EXPECT_NEAR(h->shape.thickness, e.bar_r, kTol);
-    EXPECT_FALSE(h->is_open);
-    EXPECT_FALSE(h->open_for_connect);
-  }
-  EXPECT_NEAR((h2.frame.pos - Vec3(0, e.bottom_l, -97.5)).norm(), 0, kTol);
-  EXPECT_NEAR((h3.frame.pos - Vec3(0, -e.bottom_l, -97.5)).norm(), 0, kTol);
-  EXPECT_LT((rotation(h2.frame.rot) - rotation(Vec3(160, 0, 0))).cwiseAbs().maxCoeff(), kTol);
-  EXPECT_LT((rotation(h3.frame.rot) - rotation(Vec3(0, 0, 0))).cwiseAbs().maxCoeff(), kTol);
-  for (const Primitive& p : part.primitives) {
-    EXPECT_FALSE(p.flex);
-    EXPECT_FALSE(p.centerline);
-    EXPECT_FALSE(p.theta_range.has_value());
-  }
+  EXPECT_TRUE(h1.is_open);
 }
 
 TEST(BuiltinParts, ParamHangerFormulas) {
@@ -520,7 +488,7 @@ TEST(BuiltinParts, ParamHangerFormulas) {
 
   auto def = make("ParamHanger");
   ASSERT_NE(def, nullptr);
-  expect_hanger(*def, defaults);
+  expect_hanger_measures(*def, defaults);
   EXPECT_EQ(def->params, defaults);
   EXPECT_NEAR(def->mass, 33345.3, 1e-6 * 33345.3);
   // The row's worked numbers.
@@ -541,14 +509,10 @@ TEST(BuiltinParts, ParamHangerFormulas) {
     SCOPED_TRACE(full.at("length"));
     auto part = make("ParamHanger", given);
     ASSERT_NE(part, nullptr);
-    expect_hanger(*part, full);
+    expect_hanger_measures(*part, full);
     EXPECT_EQ(part->params, full);
     EXPECT_NEAR(part->mass / def->mass, part->mesh.volume() / def->mesh.volume(), 1e-9);
   }
-  EXPECT_LE(hanger_formulas(
-                {{"length", 100}, {"bend_d", 70}, {"bar_d", 2}, {"hook_d", 40}, {"hook_h", 105}})
-                .rod_l,
-            20);
   auto longer = make("ParamHanger", {{"length", 600}});
   ASSERT_NE(longer, nullptr);
   EXPECT_GT(longer->mass, def->mass);

@@ -1,0 +1,130 @@
+// Properties that hold for every design, checked on the gallery with seeded random inputs:
+// connector frames are rigid transforms, the solvers' analytic derivatives are the derivatives
+// (against finite differences), and a rejected connect changes nothing.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "../src/solve_internal.h"
+#include "fabkit/hacks/connector_frame.h"
+#include "fabkit/hacks/diagnostic_codes.h"
+#include "test_support.h"
+
+namespace fabkit::hacks {
+namespace {
+
+using testing::load_example;
+using testing::make_part;
+
+const char* const kGallery[] = {"toothbrush_holder",
+                                "charger_holder",
+                                "soap_bottle_holder",
+                                "mug_hanger",
+                                "paper_towel_holder",
+                                "diaper_caddy",
+                                "basket_between_rods",
+                                "bird_feeder",
+                                "clip_light_s",
+                                "reading_nook"};
+
+// A random parameter vector inside every bound (unbounded angles anywhere in [0, 360)).
+std::vector<double> random_parameters(const Assembly& a, std::mt19937_64& rng) {
+  std::vector<double> x = a.values();
+  for (int i = 0; i < a.parameter_count(); ++i) {
+    const ParamSpec& s = a.parameters()[static_cast<std::size_t>(i)].spec;
+    if (s.constant) continue;
+    const double lo = s.tag == ParamTag::kUnbounded ? 0 : s.lo;
+    const double hi = s.tag == ParamTag::kUnbounded ? 360 : s.hi;
+    x[static_cast<std::size_t>(i)] = std::uniform_real_distribution<double>(lo, hi)(rng);
+  }
+  return x;
+}
+
+TEST(Properties, ConnectorFramesAreRigidForEveryPrimitiveAndParameter) {
+  std::mt19937_64 rng(7);
+  int checked = 0;
+  for (const PartGenerator& g : PartsLibrary::builtin().generators()) {
+    const auto part = make_part(g.name);
+    for (const Primitive& p : part->primitives) {
+      const std::vector<ParamSpec> specs = p.connector_params();
+      for (int trial = 0; trial < 20; ++trial) {
+        double q[3] = {0, 0, 0};
+        for (std::size_t k = 0; k < specs.size(); ++k) {
+          const double lo = specs[k].tag == ParamTag::kUnbounded ? -720 : specs[k].lo;
+          const double hi = specs[k].tag == ParamTag::kUnbounded ? 720 : specs[k].hi;
+          q[k] = std::uniform_real_distribution<double>(lo, hi)(rng);
+        }
+        const Mat4 m = connector_frame<double>(p, q);
+        const Mat3 r = m.topLeftCorner<3, 3>();
+        EXPECT_LT((r.transpose() * r - Mat3::Identity()).cwiseAbs().maxCoeff(), 1e-12)
+            << g.name << "." << p.name;
+        EXPECT_NEAR(r.determinant(), 1.0, 1e-12) << g.name << "." << p.name;
+        EXPECT_EQ(m.row(3), Eigen::RowVector4d(0, 0, 0, 1));
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 2000);
+}
+
+TEST(Properties, AnalyticDerivativesMatchFiniteDifferencesOnRandomConfigurations) {
+  std::mt19937_64 rng(11);
+  for (const char* name : kGallery) {
+    const Design d = load_example(name);
+    ASSERT_TRUE(d.feasible()) << name << d.diagnostics.format();
+    for (int trial = 0; trial < 5; ++trial) {
+      const std::vector<double> x = random_parameters(d.assembly, rng);
+      // Step 1's rows (target, closures) and step 2's (potential, closures).
+      EXPECT_LT(detail::finite_difference_mismatch(d.assembly, x, false), 1e-5) << name;
+      EXPECT_LT(detail::finite_difference_mismatch(d.assembly, x, true), 1e-5) << name;
+    }
+  }
+}
+
+// Everything observable about an assembly, to compare before and after.
+std::string snapshot(const Assembly& a) {
+  std::string s;
+  for (int i = 0; i < a.part_count(); ++i) {
+    s += a.label(PartId{i}) + "@" + a.node(PartId{i}).frame.to_string() + ";";
+    for (int k = 0; k < static_cast<int>(a.node(PartId{i}).part->primitives.size()); ++k) {
+      for (double v : a.available_critical_dim(PartId{i}, PrimitiveId{k}))
+        s += std::to_string(v) + ",";
+      s += std::to_string(a.connections_of(PartId{i}, PrimitiveId{k}).size()) + ";";
+    }
+  }
+  for (double v : a.values()) s += std::to_string(v) + " ";
+  s += std::to_string(a.connections().size()) + "/" + std::to_string(a.cycle_connections().size());
+  s += std::to_string(a.graph().part_count()) + "/" + std::to_string(a.graph().edge_count());
+  return s;
+}
+
+TEST(Properties, RejectedConnectsChangeNothing) {
+  Design d = load_example("basket_between_rods");
+  ASSERT_TRUE(d.feasible());
+  Assembly& a = d.assembly;
+  const std::string before = snapshot(a);
+  auto part_named = [&](const std::string& n) { return d.parts.at(n); };
+  // One of each rejection: a pair Table 1 forbids, sizes, an already made connection, a cycle
+  // that cannot close, a part connected to itself, two new parts.
+  const auto bottle = make_part("SoapBottle");
+  const auto big_rod = make_part("LongTensionRod");
+  const auto s1 = make_part("DoubleHook");
+  const auto s2 = make_part("DoubleHook");
+  const std::vector<std::pair<PrimitiveRef, PrimitiveRef>> bad{
+      {{bottle, "surface"}, {part_named("rods"), "rod1"}},
+      {{s1, "hook1"}, {big_rod, "rod"}},
+      {{part_named("eyehook1"), "hole"}, {part_named("rods"), "rod1"}},
+      {{part_named("eyehook1"), "hook"}, {part_named("eyehook1"), "hole"}},
+      {{s1, "hook1"}, {s2, "hook2"}},
+      {{part_named("basket"), "hook"}, {part_named("rods"), "rod2"}},
+  };
+  for (const auto& [x, y] : bad) {
+    const ConnectReport r = a.connect(x, y);
+    EXPECT_FALSE(r.accepted) << r.description;
+    EXPECT_TRUE(r.diagnostics.has_errors()) << r.description;
+    EXPECT_EQ(snapshot(a), before) << "a rejected connect changed the assembly: " << r.description;
+  }
+}
+
+}  // namespace
+}  // namespace fabkit::hacks
