@@ -144,6 +144,7 @@ int run_serve(const ServeSettings& settings) {
   o.host = settings.host;
   o.port = settings.port;
   if (std::filesystem::is_directory(FABKIT_WEB_DIR)) o.web_root = FABKIT_WEB_DIR;
+  for (const std::string& f : settings.part_files) o.hacks_part_files.emplace_back(f);
   if (!settings.design.empty()) {
     Diagnostics d;
     const auto text = read_input_file(settings.design, "design file", d);
@@ -155,6 +156,10 @@ int run_serve(const ServeSettings& settings) {
     o.initial_design_name = settings.design;
   }
   server::EditorServer server(o);
+  if (server.startup_diagnostics().has_errors()) {
+    print_diagnostics(server.startup_diagnostics());
+    return exit_code(server.startup_diagnostics());
+  }
   if (!server.bind()) {
     std::fprintf(stderr, "error: %s\n", server.error().c_str());
     return kExitUsage;

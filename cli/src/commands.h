@@ -62,12 +62,14 @@ int run_python(const std::string& mode,
 struct ServeSettings {
   std::string host = "127.0.0.1";  ///< loopback unless given explicitly
   int port = 8080;
-  std::string design;  ///< optional design to open
+  std::string design;                   ///< optional design to open
+  std::vector<std::string> part_files;  ///< hacks part files to offer
 };
 int run_serve(const ServeSettings& settings);
 
 struct PartsSettings {
-  std::string name;  ///< one part in detail, or all when empty
+  std::string name;                     ///< one part in detail, or all when empty
+  std::vector<std::string> part_files;  ///< extra part libraries (YAML)
 };
 int run_parts(const PartsSettings& settings);
 

@@ -261,7 +261,9 @@ int run_demo(const DemoSettings& settings) {
 }
 
 int run_parts(const PartsSettings& settings) {
-  const hacks::PartsLibrary& library = hacks::PartsLibrary::builtin();
+  const std::optional<hacks::PartsLibrary> loaded = library_with(settings.part_files);
+  if (!loaded) return kExitBadInput;
+  const hacks::PartsLibrary& library = *loaded;
   if (settings.name.empty()) {
     for (const hacks::PartGenerator& g : library.generators()) {
       Diagnostics d;

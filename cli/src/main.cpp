@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
   CLI::App* serve_cmd =
       app.add_subcommand("serve", "Start the local server of the web editor (JSON API under /api)");
   serve_cmd->add_option("design", serve.design, "design to open (YAML)");
+  serve_cmd->add_option("--parts", serve.part_files, "hacks: extra part library file(s) (YAML)");
   serve_cmd->add_option("--port", serve.port, "port (0: any free one)")
       ->capture_default_str()
       ->check(CLI::Range(0, 65535));
@@ -95,6 +96,7 @@ int main(int argc, char** argv) {
   CLI::App* parts_cmd =
       app.add_subcommand("parts", "List the hacks parts library, or show one part");
   parts_cmd->add_option("name", parts.name, "part name");
+  parts_cmd->add_option("--parts", parts.part_files, "extra part library file(s) (YAML)");
 
   try {
     app.parse(argc, argv);

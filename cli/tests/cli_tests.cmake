@@ -86,3 +86,7 @@ if(EXISTS /dev/zero)
   expect_run(2 "not a regular file" serve /dev/zero --port 0)
 endif()
 expect_run(2 "cannot read part file" check ${SOURCE_DIR}/examples/hacks/bird_feeder.yaml --parts ${SOURCE_DIR}/examples)
+# User part files reach `parts` and `serve` too, not only check and solve.
+expect_run(0 "WallBracket" parts WallBracket --parts ${SOURCE_DIR}/examples/parts/wall_bracket.yaml)
+expect_run(2 "cannot read part file" parts --parts ${tmp}/does-not-exist.yaml)
+expect_run(2 "cannot read part file" serve --parts ${tmp}/does-not-exist.yaml --port 0)

@@ -21,7 +21,8 @@ from ._fabkit import ConnectError, Error, Frame
 from ._sweep import sweep
 
 __all__ = [
-    "Assembly", "Frame", "Environment", "Error", "ConnectError", "sweep",
+    "Assembly", "Frame", "Environment", "Error", "ConnectError", "sweep", "load_parts",
+    "load_design",
     "Rod", "Hook", "Ring", "Hole", "Tube", "Clip", "Edge", "Surface", "Hemisphere",
 ]
 
@@ -105,6 +106,31 @@ def _part_constructor(name):
     make.__name__ = name
     make.__doc__ = f"A {name} from the parts library (fabkit parts {name})."
     return make
+
+
+def load_parts(path):
+    """Adds the parts of a YAML part file (docs/parts.md) to the library: afterwards they are
+    constructors here like the built-in ones (``load_parts("bracket.yaml"); WallBracket()``).
+    Returns their names."""
+    names = _k.load_parts(str(path))
+    for name in names:
+        globals()[name] = _part_constructor(name)
+    return names
+
+
+class Design:
+    """A design file read and verified: ``design.assembly`` (solve it), ``design.parts`` (by the
+    names in the file), ``design.name``. Raises fabkit.InputError / InfeasibleError."""
+
+    def __init__(self, path):
+        assembly, self.parts, self.name = _k.load_design(str(path))
+        self.assembly = Assembly.__new__(Assembly)
+        self.assembly._assembly = assembly
+
+
+def load_design(path):
+    """Reads a hacks design file (``fabkit: hacks/1``, docs/design-format.md)."""
+    return Design(path)
 
 
 # Every part of the library under its paper/reference name (and aliases such as

@@ -14,6 +14,7 @@
 #include "errors.h"
 #include "fabkit/core/file_io.h"
 #include "fabkit/hacks/assembly.h"
+#include "fabkit/hacks/design_file.h"
 #include "fabkit/hacks/parts_library.h"
 #include "fabkit/hacks/primitive_spec.h"
 #include "fabkit/hacks/solution_export.h"
@@ -110,9 +111,15 @@ LoosePrimitive make_primitive(const std::string& type_name, const py::object& pa
   return {*p};
 }
 
+// The parts Python programs build from: the built-in library plus part files they loaded.
+PartsLibrary& library() {
+  static PartsLibrary lib = PartsLibrary::builtin();
+  return lib;
+}
+
 std::shared_ptr<Part> make_part(const std::string& name, const py::object& params) {
   Diagnostics d;
-  auto part = PartsLibrary::builtin().make(name, to_params(params, name), d);
+  auto part = library().make(name, to_params(params, name), d);
   if (!part) throw py::value_error(messages(d));
   return part;
 }
@@ -206,6 +213,38 @@ void fabkit::python::bind_hacks(py::module_ m) {
                                return names;
                              })
       .def("primitive", &primitive_of)
+      .def(
+          "primitive_spec",
+          [](const Part& p, const std::string& name) {
+            const PrimitiveId id = p.find_primitive(name);
+            if (!id.valid()) {
+              throw py::attribute_error(fmt::format(
+                  "{} has no primitive '{}' (it has {})", p.type_name, name, p.primitive_list()));
+            }
+            const Primitive& x = p.primitive(id);
+            py::dict spec;
+            spec["type"] = std::string(to_string(x.type));
+            for (std::string_view f : shape_field_names(x.type)) {
+              spec[py::str(std::string(f))] = shape_field_value(x.shape, f);
+            }
+            spec["pos"] = std::vector<double>{x.frame.pos.x(), x.frame.pos.y(), x.frame.pos.z()};
+            spec["rot"] = std::vector<double>{x.frame.rot.x(), x.frame.rot.y(), x.frame.rot.z()};
+            spec["flex"] = x.flex;
+            spec["centerline"] = x.centerline;
+            spec["is_open"] = x.is_open;
+            spec["open_for_connect"] = x.open_for_connect;
+            spec["open_ends"] = std::vector<bool>{x.open_ends[0], x.open_ends[1]};
+            spec["theta_range"] =
+                x.theta_range
+                    ? py::cast(std::vector<double>(x.theta_range->begin(), x.theta_range->end()))
+                    : py::none();
+            spec["phi_range"] =
+                x.phi_range
+                    ? py::cast(std::vector<double>(x.phi_range->begin(), x.phi_range->end()))
+                    : py::none();
+            return spec;
+          },
+          "Everything about one primitive: type, sizes, frame, flags (for tools and tests).")
       .def("__getattr__",
            [](const std::shared_ptr<Part>& p, const std::string& name) {
              if (name.rfind("__", 0) == 0) throw py::attribute_error(name);
@@ -216,9 +255,37 @@ void fabkit::python::bind_hacks(py::module_ m) {
       });
 
   m.def("make_part", &make_part, py::arg("name"), py::arg("params") = py::none());
+  m.def(
+      "load_parts",
+      [](const std::filesystem::path& path) {
+        const std::size_t before = library().generators().size();
+        PartsLibrary trial = library();
+        Diagnostics d;
+        if (!trial.load_yaml(path, d)) python::raise_diagnostics(d);
+        library() = std::move(trial);
+        std::vector<std::string> added;
+        for (std::size_t i = before; i < library().generators().size(); ++i) {
+          added.push_back(library().generators()[i].name);
+          for (const std::string& a : library().generators()[i].aliases) added.push_back(a);
+        }
+        return added;
+      },
+      py::arg("path"),
+      "Adds the parts of a YAML part file (docs/parts.md); returns their names and aliases.");
+  m.def(
+      "load_design",
+      [](const std::filesystem::path& path) {
+        Design d = load_design(path, library());
+        if (d.diagnostics.has_errors()) python::raise_diagnostics(d.diagnostics);
+        py::dict parts;
+        for (const auto& [name, part] : d.parts) parts[py::str(name)] = part;
+        return py::make_tuple(py::cast(std::move(d.assembly)), parts, d.name);
+      },
+      py::arg("path"),
+      "Reads a hacks design file and verifies every connect: (assembly, parts by name, name).");
   m.def("part_names", [] {
     std::vector<std::string> names;
-    for (const PartGenerator& g : PartsLibrary::builtin().generators()) {
+    for (const PartGenerator& g : library().generators()) {
       names.push_back(g.name);
       for (const auto& a : g.aliases) names.push_back(a);
     }

@@ -49,6 +49,7 @@ struct EditorServer::Impl {
   ServerOptions options;
   httplib::Server http;
   int port = -1;
+  Diagnostics startup_errors;
 
   void add(const std::string& prefix, const ApiRoute& route) {
     const std::string pattern = prefix + route.path;
@@ -69,6 +70,7 @@ struct EditorServer::Impl {
     kits.push_back(hacks_api(context));
     Json kit_names = Json::array();
     for (const KitApi& kit : kits) {
+      startup_errors.append(kit.startup_errors);
       kit_names.push_back(kit.kit);
       for (const ApiRoute& route : kit.routes) {
         add("/api/" + kit.kit + "/", route);
@@ -126,6 +128,11 @@ EditorServer::~EditorServer() {
 }
 
 bool EditorServer::bind() {
+  if (impl_->startup_errors.has_errors()) {
+    error_ = impl_->startup_errors.format();
+    if (!error_.empty() && error_.back() == '\n') error_.pop_back();
+    return false;
+  }
   if (impl_->options.port == 0) {
     impl_->port = impl_->http.bind_to_any_port(impl_->options.host);
   } else if (impl_->http.bind_to_port(impl_->options.host, impl_->options.port)) {
@@ -140,6 +147,10 @@ bool EditorServer::bind() {
     return false;
   }
   return true;
+}
+
+const Diagnostics& EditorServer::startup_diagnostics() const {
+  return impl_->startup_errors;
 }
 
 int EditorServer::port() const {

@@ -47,6 +47,7 @@ json primitive_json(const Primitive& p) {
 
 // Reads a posted design: no part files (a request may not name files), capped in size.
 Design load(const ApiContext& context,
+            const PartsLibrary& library,
             const std::string& body,
             std::chrono::steady_clock::time_point deadline) {
   DesignOptions o;
@@ -54,7 +55,7 @@ Design load(const ApiContext& context,
   o.max_connections = context.options->max_connections;
   o.part_files = PartFilePolicy::kRefuse;
   o.verify.deadline = deadline;
-  return load_design_text(body, "design.yaml", PartsLibrary::builtin(), o);
+  return load_design_text(body, "design.yaml", library, o);
 }
 
 // 400 for input errors (the file cannot be understood), with every diagnostic.
@@ -76,43 +77,50 @@ bool reject_input(const Design& d, httplib::Response& res) {
 KitApi hacks_api(const ApiContext& context) {
   KitApi api;
   api.kit = "hacks";
+  // The built-in parts plus the part files the server was started with (never from a request).
+  auto shared = std::make_shared<PartsLibrary>(PartsLibrary::builtin());
+  for (const std::filesystem::path& file : context.options->hacks_part_files) {
+    Diagnostics d;
+    if (!shared->load_yaml(file, d)) api.startup_errors.append(d);
+  }
+  std::shared_ptr<const PartsLibrary> library = shared;
   api.also_at_root = true;
   using M = ApiRoute::Method;
 
-  api.routes.push_back({M::kGet, "parts", [](const httplib::Request&, httplib::Response& res) {
-                          json parts = json::array();
-                          const PartsLibrary& lib = PartsLibrary::builtin();
-                          for (const PartGenerator& g : lib.generators()) {
-                            Diagnostics d;
-                            const auto part = lib.make(g.name, {}, d);
-                            if (!part) continue;
-                            json prims = json::array();
-                            for (const Primitive& p : part->primitives)
-                              prims.push_back(primitive_json(p));
-                            json params = json::array();
-                            for (const ParamSchema& s : g.params) {
-                              params.push_back({{"name", s.name},
-                                                {"default", s.default_value},
-                                                {"min", s.min},
-                                                {"max", s.max},
-                                                {"unit", s.unit},
-                                                {"doc", s.doc}});
-                            }
-                            parts.push_back({{"name", g.name},
-                                             {"aliases", g.aliases},
-                                             {"description", g.description},
-                                             {"category", std::string(to_string(g.category))},
-                                             {"mass", part->mass},
-                                             {"params", params},
-                                             {"primitives", prims}});
-                          }
-                          reply(res, 200, parts);
-                        }});
+  api.routes.push_back(
+      {M::kGet, "parts", [library](const httplib::Request&, httplib::Response& res) {
+         json parts = json::array();
+         const PartsLibrary& lib = *library;
+         for (const PartGenerator& g : lib.generators()) {
+           Diagnostics d;
+           const auto part = lib.make(g.name, {}, d);
+           if (!part) continue;
+           json prims = json::array();
+           for (const Primitive& p : part->primitives) prims.push_back(primitive_json(p));
+           json params = json::array();
+           for (const ParamSchema& s : g.params) {
+             params.push_back({{"name", s.name},
+                               {"default", s.default_value},
+                               {"min", s.min},
+                               {"max", s.max},
+                               {"unit", s.unit},
+                               {"doc", s.doc}});
+           }
+           parts.push_back({{"name", g.name},
+                            {"aliases", g.aliases},
+                            {"description", g.description},
+                            {"category", std::string(to_string(g.category))},
+                            {"mass", part->mass},
+                            {"params", params},
+                            {"primitives", prims}});
+         }
+         reply(res, 200, parts);
+       }});
 
   api.routes.push_back(
       {M::kGet,
        R"(parts/([A-Za-z0-9_]{1,64})/mesh)",
-       [](const httplib::Request& req, httplib::Response& res) {
+       [library](const httplib::Request& req, httplib::Response& res) {
          const std::string name = req.matches[1];
          ParamValues values;
          for (const auto& [key, value] : req.params) {
@@ -126,9 +134,9 @@ KitApi hacks_api(const ApiContext& context) {
            values[key] = v;
          }
          Diagnostics d;
-         const auto part = PartsLibrary::builtin().make(name, values, d);
+         const auto part = library->make(name, values, d);
          if (!part) {
-           const bool unknown = !PartsLibrary::builtin().find(name);
+           const bool unknown = !library->find(name);
            reply_error(res, unknown ? 404 : 400, messages_of(d), to_json(d));
            return;
          }
@@ -142,7 +150,7 @@ KitApi hacks_api(const ApiContext& context) {
   // Two-way filtering: which of the candidate primitives can connect to the picked one
   // (paper Table 1, closedness, sizes), each with the reason when not.
   api.routes.push_back(
-      {M::kPost, "compatible", [](const httplib::Request& req, httplib::Response& res) {
+      {M::kPost, "compatible", [library](const httplib::Request& req, httplib::Response& res) {
          json body;
          try {
            body = json::parse(req.body);
@@ -168,7 +176,7 @@ KitApi hacks_api(const ApiContext& context) {
                  }
                }
                Diagnostics d;
-               part = PartsLibrary::builtin().make(j["part"].get<std::string>(), values, d);
+               part = library->make(j["part"].get<std::string>(), values, d);
                if (!part) {
                  why = messages_of(d);
                  return false;
@@ -265,8 +273,8 @@ KitApi hacks_api(const ApiContext& context) {
        }});
 
   api.routes.push_back(
-      {M::kPost, "check", [context](const httplib::Request& req, httplib::Response& res) {
-         const Design d = load(context, req.body, context.deadline());
+      {M::kPost, "check", [context, library](const httplib::Request& req, httplib::Response& res) {
+         const Design d = load(context, *library, req.body, context.deadline());
          if (reject_input(d, res)) return;
          json steps = json::array();
          for (const DesignStep& s : d.steps) {
@@ -303,9 +311,9 @@ KitApi hacks_api(const ApiContext& context) {
        }});
 
   api.routes.push_back(
-      {M::kPost, "solve", [context](const httplib::Request& req, httplib::Response& res) {
+      {M::kPost, "solve", [context, library](const httplib::Request& req, httplib::Response& res) {
          const auto limit = context.deadline();
-         const Design d = load(context, req.body, limit);
+         const Design d = load(context, *library, req.body, limit);
          if (reject_input(d, res)) return;
          if (!d.feasible()) {
            reply_error(res, 422, "the design cannot be built", to_json(d.diagnostics));

@@ -42,6 +42,8 @@ struct KitApi {
   std::string kit;            ///< "hacks"
   bool also_at_root = false;  ///< registered at /api/<path> too (the hacks kit, for old clients)
   std::vector<ApiRoute> routes;
+  /// Problems with what the kit was started with (part files): the server refuses to start.
+  Diagnostics startup_errors;
 };
 
 /// The hacks kit's routes (server/src/hacks_api.cpp).

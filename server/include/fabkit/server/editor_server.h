@@ -21,14 +21,19 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
+
+#include "fabkit/core/diagnostics.h"
 
 namespace fabkit::server {
 
 struct ServerOptions {
-  std::string host = "127.0.0.1";        ///< loopback unless the user asks otherwise
-  int port = 8080;                       ///< 0: any free port
-  std::filesystem::path web_root;        ///< the built editor (web/dist); empty: API only
-  std::string initial_design;            ///< YAML text served at /api/design (may be empty)
+  std::string host = "127.0.0.1";  ///< loopback unless the user asks otherwise
+  int port = 8080;                 ///< 0: any free port
+  std::filesystem::path web_root;  ///< the built editor (web/dist); empty: API only
+  std::string initial_design;      ///< YAML text served at /api/design (may be empty)
+  /// Extra hacks part files, loaded at start (a posted design may not name files).
+  std::vector<std::filesystem::path> hacks_part_files;
   std::string initial_design_name;       ///< its file name, for diagnostics
   std::size_t max_body_bytes = 1 << 20;  ///< larger requests get 413
   int max_parts = 500;                   ///< larger designs get 400
@@ -51,6 +56,8 @@ class EditorServer {
   void listen();
   void stop();
   const std::string& error() const { return error_; }
+  /// Problems with what the server was started with (part files); bind() refuses to start.
+  const Diagnostics& startup_diagnostics() const;
 
  private:
   struct Impl;
