@@ -43,11 +43,17 @@ void fabkit::python::bind_flatpack(py::module_ m) {
         if (!s.analysis.placed) python::raise_diagnostics(s.diagnostics);
         return to_python(report_json(s));
       },
-      py::arg("text"), py::arg("name") = "design.yaml", py::arg("base_dir") = "",
-      "Checks a design (design-file text): placement, joints, warnings; returns report.json's content.");
+      py::arg("text"),
+      py::arg("name") = "design.yaml",
+      py::arg("base_dir") = "",
+      "Checks a design (design-file text): placement, joints, warnings; returns report.json's "
+      "content.");
   m.def(
       "build",
-      [](const std::string& text, const std::string& name, const std::string& base_dir, const std::string& output_dir) {
+      [](const std::string& text,
+         const std::string& name,
+         const std::string& base_dir,
+         const std::string& output_dir) {
         const Design design = read(text, name, base_dir);
         BuildOptions o;
         o.output_dir = output_dir;
@@ -59,10 +65,17 @@ void fabkit::python::bind_flatpack(py::module_ m) {
         if (s.termination != Termination::kBuilt) python::raise_diagnostics(s.diagnostics);
         return to_python(report_json(s));
       },
-      py::arg("text"), py::arg("name"), py::arg("base_dir"), py::arg("output_dir"),
+      py::arg("text"),
+      py::arg("name"),
+      py::arg("base_dir"),
+      py::arg("output_dir"),
       "Builds every output of a design into output_dir; returns report.json's content.");
   m.def(
       "to_yaml",
-      [](const std::string& text, const std::string& name) { return to_yaml(read(text, name, "")); },
-      py::arg("text"), py::arg("name") = "design.yaml", "The design as a tidy flatpack/1 design file.");
+      [](const std::string& text, const std::string& name) {
+        return to_yaml(read(text, name, ""));
+      },
+      py::arg("text"),
+      py::arg("name") = "design.yaml",
+      "The design as a tidy flatpack/1 design file.");
 }
