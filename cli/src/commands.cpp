@@ -19,11 +19,15 @@
 namespace fabkit::cli {
 
 std::span<const KitCommands> kits() {
-  static constexpr std::array<KitCommands, 1> kAll = {
+  static constexpr std::array<KitCommands, 2> kAll = {
       KitCommands{"hacks",
                   "fixture hacks from everyday parts (FabHaL); build solves and exports",
                   hacks_check,
                   hacks_build},
+      KitCommands{"flatpack",
+                  "flat-pack furniture from planar pieces; build writes cut sheets and a 3D model",
+                  flatpack_check,
+                  flatpack_build},
   };
   return kAll;
 }

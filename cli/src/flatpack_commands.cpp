@@ -1,0 +1,136 @@
+// The flatpack kit's commands: check (placement, joints, warnings, assembly order) and build
+// (cut sheets, 3D model, report).
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "commands.h"
+#include "fabkit/flatpack/build.h"
+#include "fabkit/flatpack/check.h"
+#include "fabkit/flatpack/design_file.h"
+#include "kits.h"
+
+namespace fabkit::cli {
+namespace {
+
+using namespace fabkit::flatpack;
+
+void print_analysis(const Analysis& a, bool quiet) {
+  if (!quiet) {
+    std::printf(
+        "%-24s %-14s %8s  %-28s %s\n", "piece", "material", "t (mm)", "position (mm)", "normal");
+    for (const Piece& p : a.pieces) {
+      const Vec3 o = p.frame.topRightCorner<3, 1>(), n = p.frame.block<3, 1>(0, 2);
+      std::printf("%-24s %-14s %8.1f  [%7.1f %7.1f %7.1f]   [%4.1f %4.1f %4.1f]%s\n",
+                  p.name.c_str(),
+                  p.material.name.c_str(),
+                  p.material.thickness_mm,
+                  o.x() + 0.0,
+                  o.y() + 0.0,
+                  o.z() + 0.0,
+                  n.x() + 0.0,
+                  n.y() + 0.0,
+                  n.z() + 0.0,
+                  p.components.size() > 1
+                      ? fmt::format("  (merged from {})", p.components.size()).c_str()
+                      : "");
+    }
+    std::printf(
+        "\n%-4s %-14s %-38s %9s %7s  %s\n", "id", "kind", "pieces", "length", "fingers", "from");
+    for (const Joint& j : a.joints) {
+      const std::string pieces = a.pieces[static_cast<std::size_t>(j.piece_a)].name + " – " +
+                                 a.pieces[static_cast<std::size_t>(j.piece_b)].name;
+      std::printf("%-4d %-14s %-38s %6.1f mm %7d  %s\n",
+                  j.id,
+                  std::string(to_string(j.kind)).c_str(),
+                  pieces.c_str(),
+                  j.length_mm,
+                  j.fingers,
+                  j.automatic() ? "automatic" : "connection");
+    }
+    if (!a.assembly.empty()) {
+      std::printf("\nassembly order:");
+      for (std::size_t k = 0; k < a.assembly.size(); ++k) {
+        const AssemblyStep& st = a.assembly[k];
+        std::printf("%s %zu. %s%s",
+                    k ? "," : "",
+                    k + 1,
+                    a.pieces[static_cast<std::size_t>(st.piece)].name.c_str(),
+                    st.group ? fmt::format(" (sub-assembly {})", st.group).c_str() : "");
+      }
+      std::printf("\n");
+    }
+  }
+  for (const Diagnostic& d : a.diagnostics) {
+    if (d.severity != Severity::kNote || !quiet) print_diagnostic(d);
+  }
+  std::printf(
+      "%s: %s — %zu components, %zu pieces, %d joints (%d from connections, %d automatic; %d "
+      "finger-finger, %d finger-hole, %d slot-slot cut)\n",
+      a.name.empty() ? "design" : a.name.c_str(),
+      a.diagnostics.has_errors() ? (a.placed ? "built with failed checks" : "invalid") : "valid",
+      a.components.size(),
+      a.pieces.size(),
+      a.graph_joints(),
+      a.user_connection_joints(),
+      a.automatic_joints(),
+      a.joints_of(JointKind::kFingerFinger),
+      a.joints_of(JointKind::kFingerHole),
+      a.joints_of(JointKind::kSlotSlot));
+}
+
+std::optional<Design> read(const DesignInput& input) {
+  Diagnostics d;
+  const std::filesystem::path path(input.settings.design);
+  Design design = load_design_text(input.text, path.string(), d, path.parent_path());
+  design.source = path;
+  if (d.has_errors()) {
+    print_diagnostics(d);
+    return std::nullopt;
+  }
+  for (const Diagnostic& x : d) print_diagnostic(x);
+  return design;
+}
+
+}  // namespace
+
+int flatpack_check(const DesignInput& input) {
+  const auto design = read(input);
+  if (!design) return kExitBadInput;
+  const Analysis a = check(*design);
+  print_analysis(a, input.settings.quiet);
+  return exit_code(a.diagnostics);
+}
+
+int flatpack_build(const DesignInput& input) {
+  if (input.settings.output_dir.empty()) {
+    std::fprintf(stderr, "error: fabkit build needs -o OUTPUT_DIR\n");
+    return kExitUsage;
+  }
+  const auto design = read(input);
+  if (!design) return kExitBadInput;
+  BuildOptions o;
+  o.output_dir = input.settings.output_dir;
+  if (input.settings.time_limit_s) {
+    o.deadline =
+        std::chrono::steady_clock::now() +
+        std::chrono::microseconds(static_cast<long long>(*input.settings.time_limit_s * 1e6));
+  }
+  const BuildSummary s = build(*design, o);
+  Analysis shown = s.analysis;
+  shown.diagnostics = s.diagnostics;
+  print_analysis(shown, input.settings.quiet);
+  if (s.nesting.sheet_count > 0) {
+    std::printf("sheets: %d of %g × %g mm, %.1f %% used\n",
+                s.nesting.sheet_count,
+                o.sheet.value_or(design->sheet).sheet_width_mm,
+                o.sheet.value_or(design->sheet).sheet_height_mm,
+                100 * s.nesting.utilisation);
+  }
+  for (const auto& f : s.files) std::printf("wrote %s\n", f.string().c_str());
+  return exit_code(s.diagnostics);
+}
+
+}  // namespace fabkit::cli

@@ -1,0 +1,59 @@
+#pragma once
+/// Checking a design: solve its dimensions, place every component (Alg. 1), merge coplanar
+/// pieces and find every intersection (Alg. 2), cut the joints (Appendix A) and find a
+/// press-fit assembly order. This is what `fabkit check` reports and what build() and the
+/// front ends start from; it never prints and never writes files.
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fabkit/core/diagnostics.h"
+#include "fabkit/flatpack/design.h"
+#include "fabkit/flatpack/model.h"
+
+namespace fabkit::flatpack {
+
+struct CheckOptions {
+  double cycle_tolerance_mm = 0.01;   ///< a cycle of connections must close to this
+  double cycle_tolerance_deg = 0.01;  ///< and to this
+  double coplanar_tolerance_mm = 0.01;
+  double min_joint_length_mm = 0.5;  ///< shorter intersections are contacts, not joints
+  bool assembly_order = true;        ///< look for a press-fit order
+  int max_components = 2000;         ///< refuse larger designs (limit-exceeded)
+};
+
+struct StageTiming {
+  std::string stage;  ///< "solve", "place", "detect", "joints", "assembly", "nest", "write"
+  double milliseconds = 0;
+};
+
+/// Everything check() found.
+struct Analysis {
+  std::string name;
+  std::map<std::string, double> values;  ///< every quantity, solved ("l1", "A.w", ...)
+  std::vector<std::string> meta_parameters;
+  int dimension_count = 0;  ///< component dimensions the constraints determine
+  std::vector<PlacedComponent> components;
+  std::vector<Piece> pieces;
+  std::vector<Joint> joints;
+  /// Connections that merged two coplanar components into one piece (indices).
+  std::vector<int> merging_connections;
+  std::vector<AssemblyStep> assembly;  ///< press-fit order (empty if none found)
+  std::vector<int> not_insertable;     ///< pieces no order can insert (indices)
+  std::vector<StageTiming> timings;
+  Diagnostics diagnostics;
+  bool placed = false;  ///< solving and placement succeeded (pieces are meaningful)
+
+  /// The paper's counts (§4.4): user connections, joints in the connectivity graph (one per
+  /// user connection that makes a joint or a merge, plus each automatic one), automatic ones.
+  int user_connection_joints() const;
+  int automatic_joints() const;
+  int graph_joints() const { return user_connection_joints() + automatic_joints(); }
+  int joints_of(JointKind kind) const;
+};
+
+Analysis check(const Design& design, const CheckOptions& options = {});
+
+}  // namespace fabkit::flatpack

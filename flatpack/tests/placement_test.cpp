@@ -1,0 +1,62 @@
+#include <gtest/gtest.h>
+
+#include "fabkit/flatpack/diagnostic_codes.h"
+#include "test_support.h"
+
+namespace fabkit::flatpack {
+namespace {
+
+using test::check_yaml;
+
+// Fig. 3: A.t → B.b, front-front, rotation (90, 0, 0): A folds up about B's bottom edge.
+TEST(Placement, PaperFig3MatchesTheHandComputedFrame) {
+  const Analysis a = check_yaml(
+      "fabkit: flatpack/1\ncomponents:\n  - {name: A, type: Rectangle, l: 30, w: 60}\n"
+      "  - {name: B, type: Rectangle, l: 30, w: 60}\n"
+      "connections:\n  - {connect: [A.t, B.b], alignment: front-front, rotation: [90, 0, 0]}\n");
+  ASSERT_TRUE(a.placed) << a.diagnostics.format();
+  // A's top edge lies on B's bottom edge (midpoints together, directions opposite), then A turns
+  // 90° about it towards its front. By hand, in B's frame: A's (x, y) ↦ (x, 0, 60 − y).
+  const Mat4 rel = rigid_inverse(a.components[1].frame) * a.components[0].frame;  // A in B
+  auto at = [&](double x, double y) { return Vec3((rel * Eigen::Vector4d(x, y, 0, 1)).head<3>()); };
+  EXPECT_LT((at(0, 60) - Vec3(0, 0, 0)).norm(), 1e-9) << at(0, 60).transpose();
+  EXPECT_LT((at(30, 60) - Vec3(30, 0, 0)).norm(), 1e-9) << at(30, 60).transpose();
+  EXPECT_LT((at(0, 0) - Vec3(0, 0, 60)).norm(), 1e-9) << at(0, 0).transpose();
+  EXPECT_LT((at(30, 10) - Vec3(30, 0, 50)).norm(), 1e-9) << at(30, 10).transpose();
+}
+
+TEST(Placement, FrontBackFlipsTheFaceAndOffsetsMoveAlongTheEdgeFrame) {
+  const Analysis a = check_yaml(
+      "fabkit: flatpack/1\ncomponents:\n  - {name: B, type: Rectangle, l: 100, w: 50}\n"
+      "  - {name: A, type: Rectangle, l: 20, w: 10}\n"
+      "connections:\n  - {connect: [A.b, B.t], alignment: front-back, offset: [5, -10, 2]}\n");
+  ASSERT_TRUE(a.placed) << a.diagnostics.format();
+  const Mat4 rel = rigid_inverse(a.components[0].frame) * a.components[1].frame;  // A in B
+  // B's t edge runs from (100, 50) to (0, 50): its frame x = −x, y (into B) = −y, origin (50, 50).
+  // Front-back: A's b edge runs along it in the same direction, A on the far side (y > 50),
+  // flipped (normal −z); the offset (5, −10, 2) is in B's edge frame: x −5, y +10, z +2.
+  EXPECT_LT((rel.block<3, 1>(0, 2) - Vec3(0, 0, -1)).norm(), 1e-12);
+  auto at = [&](double x, double y) { return Vec3((rel * Eigen::Vector4d(x, y, 0, 1)).head<3>()); };
+  EXPECT_LT((at(10, 0) - Vec3(45, 60, 2)).norm(), 1e-9) << at(10, 0).transpose();
+  EXPECT_LT((at(0, 0) - Vec3(55, 60, 2)).norm(), 1e-9) << at(0, 0).transpose();
+  EXPECT_LT((at(0, 10) - Vec3(55, 70, 2)).norm(), 1e-9) << at(0, 10).transpose();
+}
+
+TEST(Placement, ACycleThatDoesNotCloseIsReportedWithItsResidual) {
+  const Analysis a = check_yaml(
+      "fabkit: flatpack/1\ncomponents:\n  - {name: A, type: Rectangle, l: 30, w: 30}\n"
+      "  - {name: B, type: Rectangle, l: 30, w: 30}\n  - {name: C, type: Rectangle, l: 30, w: 30}\n"
+      "connections:\n  - {connect: [B.l, A.r]}\n  - {connect: [C.l, B.r]}\n"
+      "  - {connect: [C.b, A.t], offset: [0, 0, 5], name: closing}\n");
+  ASSERT_TRUE(test::has_code(a.diagnostics, codes::kCycleMismatch)) << a.diagnostics.format();
+  const std::string text = a.diagnostics.format();
+  EXPECT_NE(text.find("disagrees with the placement the other connections give C by"),
+            std::string::npos)
+      << text;
+  for (const char* name : {"closing", "c1", "c2"})
+    EXPECT_NE(text.find(name), std::string::npos) << text;
+  EXPECT_NE(text.find("does not close"), std::string::npos) << text;
+}
+
+}  // namespace
+}  // namespace fabkit::flatpack
