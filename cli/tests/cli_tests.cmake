@@ -40,7 +40,7 @@ expect_run(2 "unknown part 'NoSuchPart'" parts NoSuchPart)
 # 3: infeasible design.
 file(WRITE ${tmp}/infeasible.yaml
 "fabkit: hacks/1\nenvironment:\n  - {name: rods, part: LongTensionRod}\nparts:\n  - {name: s, part: DoubleHook}\nconnections:\n  - connect: [s.hook1, rods.rod]\n")
-expect_run(3 "infeasible.yaml:7:5: error: s.hook1: hook opening 11.6 mm is smaller than rod radius 12.7 mm (rods.rod)"
+expect_run(3 "infeasible.yaml:7:5: error: s.hook1: hook opening 9.6 mm is smaller than rod radius 12.7 mm (rods.rod)"
            check ${tmp}/infeasible.yaml)
 
 # solve: 0 stable (and the outputs), 4 falls apart, 3 infeasible, 2 bad input.
@@ -52,7 +52,7 @@ foreach(f result.json scene.glb assembly.stl assembly.obj)
 endforeach()
 expect_run(4 "falls apart: shook.hook1 slides off the open end of bar.rod (t = 0)"
            solve ${SOURCE_DIR}/examples/failing/hook_on_tilted_rod.yaml)
-expect_run(3 "hook opening 11.6 mm is smaller than rod radius 12.7 mm" solve ${tmp}/infeasible.yaml)
+expect_run(3 "hook opening 9.6 mm is smaller than rod radius 12.7 mm" solve ${tmp}/infeasible.yaml)
 expect_run(2 "YAML syntax error" solve ${tmp}/syntax.yaml)
 expect_run(0 "wrote ${tmp}/demo/result.json" demo -o ${tmp}/demo)
 

@@ -162,6 +162,14 @@ AlignmentOffset alignment_offset(ConnectorKind first, ConnectorKind second) {
   return out;
 }
 
+namespace {
+// The free radius inside a hook's or ring's wire: its arc radius (to the wire's centre line)
+// less the wire's radius. What passes through must fit in this.
+double opening(const Primitive& p) {
+  return p.shape.arc_radius - p.shape.thickness;
+}
+}  // namespace
+
 bool check_compatibility(const PrimitiveInUse& a,
                          const PrimitiveInUse& b,
                          Diagnostics& diags,
@@ -231,13 +239,8 @@ bool check_compatibility(const PrimitiveInUse& a,
     const Primitive& r = *rod->primitive;
     const Primitive& h = *hook->primitive;
     if (r.closed_for_connect() && h.closed_for_connect()) both_closed(*rod, *hook);
-    if (!(r.shape.radius < h.shape.arc_radius)) {
-      too_small(hook->label,
-                "hook opening",
-                h.shape.arc_radius,
-                "rod radius",
-                r.shape.radius,
-                rod->label);
+    if (!(r.shape.radius < opening(h))) {
+      too_small(hook->label, "hook opening", opening(h), "rod radius", r.shape.radius, rod->label);
     }
     if (!(avail(*rod) > 2 * h.shape.thickness)) {
       no_space(*rod, 2 * h.shape.thickness, *hook, "twice its wire radius");
@@ -246,10 +249,10 @@ bool check_compatibility(const PrimitiveInUse& a,
     auto [rod, ring] = ordered(PT::kRod);
     const Primitive& r = *rod->primitive;
     if (r.closed_for_connect()) must_be_open(*rod, *ring);
-    if (!(r.shape.radius < ring->primitive->shape.arc_radius)) {
+    if (!(r.shape.radius < opening(*ring->primitive))) {
       too_small(ring->label,
                 "ring opening",
-                ring->primitive->shape.arc_radius,
+                opening(*ring->primitive),
                 "rod radius",
                 r.shape.radius,
                 rod->label);
@@ -280,31 +283,29 @@ bool check_compatibility(const PrimitiveInUse& a,
     if (!(avail(*rod) > t.shape.length)) no_space(*rod, t.shape.length, *tube, "its length");
   } else if (pa.type == PT::kHook && pb.type == PT::kHook) {
     if (pa.closed_for_connect() && pb.closed_for_connect()) both_closed(a, b);
-    if (!(pa.shape.thickness < pb.shape.arc_radius)) {
-      too_small(
-          b.label, "hook opening", pb.shape.arc_radius, "wire radius", pa.shape.thickness, a.label);
+    if (!(pa.shape.thickness < opening(pb))) {
+      too_small(b.label, "hook opening", opening(pb), "wire radius", pa.shape.thickness, a.label);
     }
-    if (!(pb.shape.thickness < pa.shape.arc_radius)) {
-      too_small(
-          a.label, "hook opening", pa.shape.arc_radius, "wire radius", pb.shape.thickness, b.label);
+    if (!(pb.shape.thickness < opening(pa))) {
+      too_small(a.label, "hook opening", opening(pa), "wire radius", pb.shape.thickness, b.label);
     }
   } else if (is_pair(pa.type, pb.type, PT::kHook, PT::kRing)) {
     auto [hook, ring] = ordered(PT::kHook);
     const Primitive& h = *hook->primitive;
     const Primitive& g = *ring->primitive;
     if (h.closed_for_connect()) both_closed(*hook, *ring);
-    if (!(h.shape.thickness < g.shape.arc_radius)) {
+    if (!(h.shape.thickness < opening(g))) {
       too_small(ring->label,
                 "ring opening",
-                g.shape.arc_radius,
+                opening(g),
                 "hook wire radius",
                 h.shape.thickness,
                 hook->label);
     }
-    if (!(g.shape.thickness < h.shape.arc_radius)) {
+    if (!(g.shape.thickness < opening(h))) {
       too_small(hook->label,
                 "hook opening",
-                h.shape.arc_radius,
+                opening(h),
                 "ring wire radius",
                 g.shape.thickness,
                 ring->label);
@@ -315,9 +316,8 @@ bool check_compatibility(const PrimitiveInUse& a,
     const Primitive& t = *tube->primitive;
     if (t.closed_for_connect() && h.closed_for_connect()) both_closed(*hook, *tube);
     const double outer = t.shape.inner_radius + t.shape.thickness;
-    if (!(h.shape.arc_radius > outer)) {
-      too_small(
-          hook->label, "hook opening", h.shape.arc_radius, "tube outer radius", outer, tube->label);
+    if (!(opening(h) > outer)) {
+      too_small(hook->label, "hook opening", opening(h), "tube outer radius", outer, tube->label);
     }
     if (!(avail(*tube) > 2 * h.shape.thickness)) {
       no_space(*tube, 2 * h.shape.thickness, *hook, "twice its wire radius");
@@ -327,10 +327,10 @@ bool check_compatibility(const PrimitiveInUse& a,
     const Primitive& t = *tube->primitive;
     const double outer = t.shape.inner_radius + t.shape.thickness;
     if (t.closed_for_connect()) must_be_open(*tube, *ring);
-    if (!(ring->primitive->shape.arc_radius > outer)) {
+    if (!(opening(*ring->primitive) > outer)) {
       too_small(ring->label,
                 "ring opening",
-                ring->primitive->shape.arc_radius,
+                opening(*ring->primitive),
                 "tube outer radius",
                 outer,
                 tube->label);

@@ -98,9 +98,22 @@ std::string check(const Primitive& a,
 
 TEST(ConnectionRules, HookOpeningSmallerThanRodRadius) {
   EXPECT_EQ(check(rod(12.7, 2920), "Rods.rod1", hook(11.6, 2), "DoubleHook#2.hook1"),
-            "error: DoubleHook#2.hook1: hook opening 11.6 mm is smaller than rod radius 12.7 mm "
+            "error: DoubleHook#2.hook1: hook opening 9.6 mm is smaller than rod radius 12.7 mm "
             "(Rods.rod1)\n");
   EXPECT_EQ(check(rod(5, 500), "Door.rod", hook(11.6, 2), "DoubleHook.hook1"), "");
+}
+
+// The opening is what is free inside the wire (arc radius less wire radius), not the arc radius:
+// a 10.5 mm rod does not fit an 11.6 mm arc of 2 mm wire (9.6 mm free), a 9.5 mm rod does.
+TEST(ConnectionRules, OpeningIsTheFreeRadiusInsideTheWire) {
+  EXPECT_EQ(check(rod(10.5, 500), "Rod.rod", hook(11.6, 2), "S.hook1"),
+            "error: S.hook1: hook opening 9.6 mm is smaller than rod radius 10.5 mm (Rod.rod)\n");
+  EXPECT_EQ(check(rod(9.5, 500), "Rod.rod", hook(11.6, 2), "S.hook1"), "");
+  // Two hooks: each wire must fit in the other's opening.
+  EXPECT_NE(check(hook(5, 2), "A.hook1", hook(20, 3.5), "B.hook1")
+                .find("A.hook1: hook opening 3.0 mm is smaller than wire radius 3.5 mm (B.hook1)"),
+            std::string::npos);
+  EXPECT_EQ(check(hook(6, 2), "A.hook1", hook(20, 3.5), "B.hook1"), "");
 }
 
 TEST(ConnectionRules, BothClosed) {

@@ -68,7 +68,7 @@ TEST(Verify, HookOpeningSmallerThanRodRadius) {
   EXPECT_FALSE(r.accepted);
   EXPECT_TRUE(has_diagnostic(r.diagnostics,
                              codes::kDimensionMismatch,
-                             "DoubleHook#2.hook1: hook opening 11.6 mm is smaller than rod radius "
+                             "DoubleHook#2.hook1: hook opening 9.6 mm is smaller than rod radius "
                              "12.7 mm (LongTensionRod.rod)"));
 }
 

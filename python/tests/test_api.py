@@ -48,7 +48,7 @@ def test_rejected_connect_raises_connect_error_with_the_reason():
     assembly.add(rod, Frame())
     with pytest.raises(fabkit.ConnectError) as e:
         assembly.connect(DoubleHook().hook1, rod.rod)
-    assert "hook opening 11.6 mm is smaller than rod radius 12.7 mm" in str(e.value)
+    assert "hook opening 9.6 mm is smaller than rod radius 12.7 mm" in str(e.value)
     assert issubclass(fabkit.ConnectError, fabkit.Error)
     assert assembly.part_count == 1  # unchanged
 

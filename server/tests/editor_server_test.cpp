@@ -166,7 +166,7 @@ connections:
   EXPECT_FALSE(j["valid"].get<bool>());
   EXPECT_FALSE(j["steps"][1]["accepted"].get<bool>());
   EXPECT_NE(j["steps"][1]["diagnostics"][0]["message"].get<std::string>().find(
-                "hook opening 11.6 mm is smaller than rod radius 12.7 mm"),
+                "hook opening 9.6 mm is smaller than rod radius 12.7 mm"),
             std::string::npos);
   EXPECT_EQ(j["steps"][1]["diagnostics"][0]["line"], 6);
 }
@@ -262,7 +262,7 @@ TEST_F(ServerTest, CompatibilityForTwoWayFiltering) {
   ASSERT_EQ(j.size(), 4u);
   EXPECT_FALSE(j[0]["ok"].get<bool>());
   EXPECT_NE(j[0]["reason"].get<std::string>().find(
-                "hook opening 11.6 mm is smaller than rod radius 12.7 mm"),
+                "hook opening 9.6 mm is smaller than rod radius 12.7 mm"),
             std::string::npos);
   EXPECT_TRUE(j[1]["ok"].get<bool>());
   EXPECT_FALSE(j[2]["ok"].get<bool>());

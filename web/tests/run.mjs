@@ -240,7 +240,7 @@ try {
     await click(p, 'set-environment');
     await connectNew(p, 'DoubleHook', 'dh1', 'hook1', 'env1.rod');
     const msg = await p.getByTestId('failed-connect-message').textContent();
-    assert(msg.includes('hook opening 11.6 mm is smaller than rod radius 12.7 mm'), msg);
+    assert(msg.includes('hook opening 9.6 mm is smaller than rod radius 12.7 mm'), msg);
     assert((await connectionTexts(p)).length === 0, 'failed connect was kept');
     // two-way filtering: with DoubleHook.hook1 picked, the rod is dimmed with the reason
     await click(p, 'lib-prim-hook1');
@@ -252,7 +252,7 @@ try {
     assert(pt, 'rod not visible on the canvas');
     await p.mouse.move(pt.x, pt.y);
     const tip = await p.getByTestId('tooltip').textContent();
-    assert(tip.includes('hook opening 11.6 mm is smaller than rod radius 12.7 mm'), `tooltip: ${tip}`);
+    assert(tip.includes('hook opening 9.6 mm is smaller than rod radius 12.7 mm'), `tooltip: ${tip}`);
     await p.close();
   });
 
