@@ -226,7 +226,12 @@ int solve_design(Design design, const DesignSettings& settings, bool write) {
     std::fprintf(stderr, "error: falls apart: %s\n", s.message.c_str());
   }
   if (result.termination == hacks::Termination::kTimeout) return kExitTimeLimit;
-  return result.stable ? kExitOk : kExitFallsApart;
+  if (result.stable) return kExitOk;
+  if (result.slips.empty()) {
+    std::fprintf(stderr, "error: %s\n", result.message.c_str());
+    return kExitInfeasible;
+  }
+  return kExitFallsApart;
 }
 
 }  // namespace

@@ -58,6 +58,7 @@ StepResult AssemblySolver::to_step(const solvers::ManifoldSolver::Result& r,
   out.closed = r.closed;
   out.converged = r.converged;
   out.iterations = r.iterations;
+  out.escapes = r.escapes;
   if (!r.closed) {
     out.note = "the cycles could not be kept closed";
     return out;

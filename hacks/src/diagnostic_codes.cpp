@@ -20,6 +20,7 @@ std::span<const DiagnosticCode> hacks_codes() {
                                       codes::kNoEnvironment,
                                       codes::kTargetMissing,
                                       codes::kNotConnected,
+                                      codes::kNotAtRest,
                                       codes::kFallsApart};
   return kAll;
 }

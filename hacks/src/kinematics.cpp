@@ -30,15 +30,39 @@ void local_connector_twist(const Primitive& prim, const double* q, int j, Vec3& 
   v = dt - w.cross(t);
 }
 
-Problem make_problem(const Assembly& a) {
+bool Problem::covers(const Assembly& a, ConnectionId c) const {
+  if (group < 0) return true;
+  const Connection& conn = a.connection(c);
+  return part_group[conn.first.part.index()] == group ||
+         part_group[conn.second.part.index()] == group;
+}
+
+int group_count(const Assembly& a) {
+  int count = 0;
+  a.graph().movable_groups(&count);
+  return count;
+}
+
+Problem make_problem(const Assembly& a, int group) {
   Problem p;
   p.assembly = &a;
+  p.group = group;
+  p.part_group = a.graph().movable_groups();
   p.target = make_target(a);
-  p.closures = a.cycle_connections();
-  for (ConnectionId c : p.closures) p.free_axes.push_back(free_rotation_axis(a, c));
-  p.multi = multi_connection_pairs(a);
-  for (const PartNode& n : a.nodes()) {
-    const double m = n.environment ? 0.0 : std::max(0.0, n.part->mass);
+  if (p.target && group >= 0 && p.part_group[p.target->part.index()] != group) p.target.reset();
+  for (ConnectionId c : a.cycle_connections()) {
+    if (!p.covers(a, c)) continue;
+    p.closures.push_back(c);
+    p.free_axes.push_back(free_rotation_axis(a, c));
+  }
+  for (MultiConnectionPair& m : multi_connection_pairs(a)) {
+    const ConnectionId c = a.parameters()[static_cast<std::size_t>(m.params_i.front())].connection;
+    if (p.covers(a, c)) p.multi.push_back(std::move(m));
+  }
+  for (std::size_t i = 0; i < a.nodes().size(); ++i) {
+    const PartNode& n = a.nodes()[i];
+    const bool in = group < 0 || p.part_group[i] == group;
+    const double m = n.environment || !in ? 0.0 : std::max(0.0, n.part->mass);
     p.masses.push_back(m);
     p.coms.push_back(n.part->center_of_mass);
     p.total_mass += m;
@@ -46,12 +70,13 @@ Problem make_problem(const Assembly& a) {
   return p;
 }
 
-Variables select_variables(const Assembly& a, bool physics) {
+Variables select_variables(const Assembly& a, bool physics, const Problem* only) {
   Variables v;
   for (int i = 0; i < a.parameter_count(); ++i) {
     const ParamInfo& p = a.parameters()[static_cast<std::size_t>(i)];
     if (p.spec.constant) continue;
     if (physics && p.spec.fixed_under_physics) continue;
+    if (only && !only->covers(a, p.connection)) continue;
     v.index.push_back(i);
     double scale = 1.0;
     if (!p.spec.is_angle()) {

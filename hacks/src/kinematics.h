@@ -12,6 +12,7 @@
 #include "fabkit/core/solvers/manifold_solver.h"
 #include "fabkit/hacks/assembly.h"
 #include "target.h"
+#include "tolerances.h"
 
 namespace fabkit::hacks::detail {
 
@@ -26,12 +27,21 @@ struct Problem {
   std::vector<ConnectionId> closures;
   std::vector<std::optional<Vec3>> free_axes;
   std::vector<MultiConnectionPair> multi;
-  std::vector<double> masses;  // per part; 0 for environments
+  std::vector<double> masses;  // per part; 0 for environments and parts of other groups
   std::vector<Vec3> coms;      // per part, in part coordinates
   double total_mass = 0;
+  /// The movable group this problem covers (KinematicGraph::movable_groups), -1 for all.
+  /// Groups hang from fixed parts independently, so each is solved on its own.
+  int group = -1;
+  std::vector<int> part_group;  // per part; -1 for environments
+  /// Whether connection `c` moves parts of this problem's group.
+  bool covers(const Assembly& a, ConnectionId c) const;
 };
 
-Problem make_problem(const Assembly& a);
+/// The problem of the whole assembly (group -1) or of one movable group.
+Problem make_problem(const Assembly& a, int group = -1);
+/// The number of movable groups.
+int group_count(const Assembly& a);
 
 // Maps the optimiser's variables into the full parameter vector.
 struct Variables {
@@ -41,7 +51,7 @@ struct Variables {
 
 /// The parameters that may move: all but constants; with `physics`, also not those pinned
 /// under gravity (clip jaws, fixed joints, surface contacts).
-Variables select_variables(const Assembly& a, bool physics);
+Variables select_variables(const Assembly& a, bool physics, const Problem* only = nullptr);
 
 template <class T>
 std::vector<T> expand(const Variables& v, const std::vector<double>& base, const T* z) {
@@ -173,6 +183,16 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
   int objectives() const override { return cost_.objective_count(); }
   int equalities() const override { return cost_.equality_count(); }
   int inequalities() const override { return rows_ - objectives() - equalities(); }
+  /// The closures' minimal orientation residuals also vanish at a half turn: refuse those.
+  bool acceptable(const double* z) override {
+    if (problem_.closures.empty()) return true;
+    const std::vector<double> x = expand<double>(vars_, base_, z);
+    for (const ClosureGap& g : closure_gaps(*problem_.assembly, x)) {
+      if (g.rotation_deg > kHalfTurnCheckDeg) return false;
+    }
+    return true;
+  }
+
   void evaluate(const double* z, double* values, double* jacobian) override {
     evaluate(z);
     std::copy(values_.begin(), values_.end(), values);

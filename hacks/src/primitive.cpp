@@ -99,13 +99,13 @@ int connector_dof(ConnectorKind k) {
     case ConnectorKind::kClip:
     case ConnectorKind::kEdge:
       return 1;
-    case ConnectorKind::kRod:
     case ConnectorKind::kHookFlex:
     case ConnectorKind::kRingFlex:
     case ConnectorKind::kRingCenterline:
     case ConnectorKind::kTube:
     case ConnectorKind::kTubeCenterline:
       return 2;
+    case ConnectorKind::kRod:
     case ConnectorKind::kSurface:
     case ConnectorKind::kHemisphere:
       return 3;
@@ -256,7 +256,8 @@ std::vector<ParamSpec> Primitive::connector_params() const {
   std::vector<ParamSpec> out = [&]() -> std::vector<ParamSpec> {
     switch (connector_kind()) {
       case ConnectorKind::kRod:
-        return {frac("t"), angle("phi", 90, phi[0], phi[1])};
+        // ψ: where around the rod the contact is (the reference fixes it at 0, one line).
+        return {frac("t"), angle("phi", 90, phi[0], phi[1]), spin("psi", 0)};
       case ConnectorKind::kRodCenterline:
         return {frac("t")};
       case ConnectorKind::kHook:

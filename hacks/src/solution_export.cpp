@@ -18,7 +18,11 @@ namespace {
 using ordered_json = Json;
 
 ordered_json pose_error_json(const PoseError& e) {
-  return {{"pos_error_mm", tidy(e.position_mm)}, {"rot_error_deg", tidy(e.rotation_deg)}};
+  return {{"pos_error_mm", tidy(e.position_mm)},
+          {"rot_error_deg", tidy(e.rotation_deg)},
+          {"tilt_deg", tidy(e.tilt_deg)},
+          {"twist_deg", tidy(e.twist_deg)},
+          {"twist_free", e.twist_free}};
 }
 
 }  // namespace
@@ -66,9 +70,16 @@ std::string result_json(const Assembly& assembly,
                       {"tag", std::string(to_string(p.spec.tag))}});
   }
   j["parameters"] = params;
+  ordered_json neutral = ordered_json::array();
+  for (const NeutralDirection& n : r.neutral_directions) {
+    neutral.push_back({{"parameters", n.parameters}, {"description", n.description}});
+  }
   j["checks"] = {{"max_connection_gap_mm", r.max_gap_mm},
                  {"max_connection_gap_deg", r.max_gap_deg},
                  {"equilibrium_residual", r.equilibrium_residual},
+                 {"smallest_curvature", r.smallest_curvature},
+                 {"neutral_directions", neutral},
+                 {"escapes", r.escapes},
                  {"notes", r.stability_notes}};
   ordered_json timings = ordered_json::object();
   for (const StageTiming& t : r.timings)

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "fabkit/hacks/diagnostic_codes.h"
 #include "steps.h"
@@ -37,6 +38,8 @@ std::string_view to_string(Termination t) {
       return "MAX_ITERATIONS";
     case Termination::kTimeout:
       return "TIMEOUT";
+    case Termination::kNotConverged:
+      return "DID_NOT_CONVERGE";
   }
   return "CONVERGED";
 }
@@ -48,16 +51,36 @@ PoseError target_error(const Assembly& assembly, const std::vector<double>& x) {
   return pose_error(*t, Rigid<double>::from_matrix(frames[t->part.index()]));
 }
 
+namespace {
+
+// Whether moving along `motion` (a neutral direction, full parameter vector) turns the target
+// about the vertical: then its twist is free.
+bool turns_target_about_vertical(const Assembly& a,
+                                 const TargetModel& t,
+                                 const std::vector<double>& x,
+                                 const std::vector<double>& motion) {
+  const double eps = 1e-4;
+  std::vector<double> moved = x;
+  for (std::size_t i = 0; i < x.size(); ++i) moved[i] += eps * motion[i];
+  const Mat4 before = a.part_frames(x)[t.part.index()] * t.base.matrix();
+  const Mat4 after = a.part_frames(moved)[t.part.index()] * t.base.matrix();
+  const Eigen::AngleAxisd turn(
+      Mat3(after.topLeftCorner<3, 3>() * before.topLeftCorner<3, 3>().transpose()));
+  return turn.angle() > 1e-9 && std::abs(turn.axis().z()) > 0.99;
+}
+
+}  // namespace
+
 SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   SolveResult result;
-  const Problem problem = make_problem(assembly);
   if (assembly.part_count() == 0) {
     result.termination = Termination::kInfeasible;
     result.message = "the assembly is empty";
     result.diagnostics.error(codes::kNoEnvironment, "solve: the assembly is empty");
     return result;
   }
-  if (!problem.target) {
+  const Problem whole = make_problem(assembly);
+  if (!whole.target) {
     result.termination = Termination::kNoTarget;
     result.diagnostics.warning(codes::kTargetMissing,
                                assembly.target() ? "the target is not connected to the hack; "
@@ -77,10 +100,16 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   auto announce = [&](std::string_view stage) {
     if (options.on_stage) options.on_stage(stage);
   };
+  // What hangs from the environments in separate groups is solved separately: the target only
+  // steers its own group, and gravity acts on each group alone.
+  const int groups = group_count(assembly);
+  const int target_group = whole.target ? whole.part_group[whole.target->part.index()] : -1;
+
   // Step 1.
   announce("step1");
   auto t1 = Clock::now();
-  const Step1Result step1 = run_step1(problem, options);
+  const Problem steered = make_problem(assembly, target_group);
+  const Step1Result step1 = run_step1(whole.target ? steered : whole, options);
   result.timings.push_back({"step1", ms_since(t1)});
   result.step1_parameters = step1.x;
   result.step1_starts = step1.starts;
@@ -93,36 +122,118 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   }
   result.feasible = true;
 
-  // Step 2.
-  const Variables vars = select_variables(assembly, /*physics=*/true);
+  // Step 2 and the verdict, group by group. Groups the target does not steer relax once from
+  // the verified configuration; the target's group relaxes from each of step 1's candidates,
+  // and the one that holds nearest the target wins (the nearest start may not hold).
+  struct GroupOutcome {
+    std::vector<double> x;
+    StepResult step;
+    StabilityReport verdict;
+    bool movable = false;  // it has variables and mass
+  };
+  auto relax_and_judge = [&](const Problem& problem, std::vector<double> x0) {
+    GroupOutcome out;
+    const Variables vars = select_variables(assembly, /*physics=*/true, &problem);
+    out.movable = !vars.index.empty() && problem.total_mass > 0;
+    if (options.relax) {
+      out.step = run_step2(problem, vars, x0, options);
+      for (int index : vars.index) {
+        x0[static_cast<std::size_t>(index)] = out.step.x[static_cast<std::size_t>(index)];
+      }
+    }
+    for (std::size_t i = 0; i < x0.size(); ++i) {
+      if (assembly.parameters()[i].spec.tag == ParamTag::kUnbounded) x0[i] = wrap_360(x0[i]);
+    }
+    out.x = std::move(x0);
+    out.verdict = check_stability(problem, vars, out.x, options);
+    return out;
+  };
+  auto holds = [](const GroupOutcome& g) {
+    return g.verdict.slips.empty() && g.verdict.equilibrium_residual <= kEquilibriumTolerance &&
+           !(g.movable && g.verdict.smallest_curvature < -g.verdict.neutral_threshold);
+  };
+  announce("step2");
+  auto t2 = Clock::now();
   std::vector<double> x = step1.x;
   bool converged = !step1.hit_iteration_limit;
-  if (options.relax) {
-    announce("step2");
-    auto t2 = Clock::now();
-    StepResult step2 = run_step2(problem, vars, step1.x, options);
-    x = step2.x;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      if (assembly.parameters()[i].spec.tag == ParamTag::kUnbounded) x[i] = wrap_360(x[i]);
+  std::vector<GroupOutcome> outcomes(static_cast<std::size_t>(groups));
+  int chosen_candidate = 0;
+  for (int g = 0; g < groups; ++g) {
+    const Problem problem = make_problem(assembly, g);
+    if (g != target_group) {
+      outcomes[static_cast<std::size_t>(g)] = relax_and_judge(problem, step1.x);
+      continue;
     }
-    if (!step2.closed || max_gap(assembly, x) > options.closure_tolerance_mm) {
-      result.diagnostics.warning(codes::kCycleNotClosable,
-                                 "relaxation left a cycle open by more than the tolerance");
+    std::optional<GroupOutcome> best;
+    double best_error = 0;
+    for (std::size_t c = 0; c < step1.candidates.size(); ++c) {
+      if (options.deadline && Clock::now() > *options.deadline) break;
+      GroupOutcome o = relax_and_judge(problem, step1.candidates[c].x);
+      const PoseError e = pose_error(
+          *whole.target,
+          Rigid<double>::from_matrix(assembly.part_frames(o.x)[whole.target->part.index()]));
+      const double error =
+          e.position_mm + e.tilt_deg + (e.twist_free ? 0.0 : std::abs(e.twist_deg));
+      const bool better = !best || (holds(o) && !holds(*best)) ||
+                          (holds(o) == holds(*best) && error < best_error - 1e-9);
+      if (better) {
+        best = std::move(o);
+        best_error = error;
+        chosen_candidate = static_cast<int>(c);
+      }
+      if (holds(*best) && c == 0) break;  // the nearest start holds: nothing to choose
     }
-    converged = converged && step2.converged;
-    if (!step2.note.empty()) result.stability_notes.push_back(step2.note);
-    result.timings.push_back({"step2", ms_since(t2)});
+    if (best) outcomes[static_cast<std::size_t>(g)] = std::move(*best);
   }
+  if (target_group >= 0 && chosen_candidate > 0) {
+    // Step 1's reported result is the start that relaxed into the answer.
+    const Step1Result::Candidate& c = step1.candidates[static_cast<std::size_t>(chosen_candidate)];
+    result.step1_parameters = c.x;
+    result.target_step1 = c.error;
+  }
+  bool curved_down = false;  // a group rests where the potential curves down: not a minimum
+  bool any_curvature = false;
+  std::vector<std::vector<double>> target_neutral;
+  for (int g = 0; g < groups; ++g) {
+    const GroupOutcome& o = outcomes[static_cast<std::size_t>(g)];
+    const Problem problem = make_problem(assembly, g);
+    for (int index : select_variables(assembly, /*physics=*/true, &problem).index) {
+      x[static_cast<std::size_t>(index)] =
+          o.x.empty() ? x[static_cast<std::size_t>(index)] : o.x[static_cast<std::size_t>(index)];
+    }
+    if (!o.step.closed) {
+      result.diagnostics.warning(codes::kCycleNotClosable,
+                                 "relaxation could not keep a cycle closed");
+    }
+    converged = converged && o.step.converged;
+    result.escapes += o.step.escapes;
+    if (!o.step.note.empty()) result.stability_notes.push_back(o.step.note);
+    const StabilityReport& v = o.verdict;
+    result.slips.insert(result.slips.end(), v.slips.begin(), v.slips.end());
+    result.equilibrium_residual = std::max(result.equilibrium_residual, v.equilibrium_residual);
+    if (o.movable) {
+      result.smallest_curvature = any_curvature
+                                      ? std::min(result.smallest_curvature, v.smallest_curvature)
+                                      : v.smallest_curvature;
+      any_curvature = true;
+      if (v.smallest_curvature < -v.neutral_threshold) curved_down = true;
+    }
+    result.neutral_directions.insert(
+        result.neutral_directions.end(), v.neutral_directions.begin(), v.neutral_directions.end());
+    if (g == target_group) target_neutral = v.neutral_motions;
+  }
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (assembly.parameters()[i].spec.tag == ParamTag::kUnbounded) x[i] = wrap_360(x[i]);
+  }
+  if (max_gap(assembly, x) > options.closure_tolerance_mm) {
+    result.diagnostics.warning(codes::kCycleNotClosable,
+                               "relaxation left a cycle open by more than the tolerance");
+  }
+  // Step 2's time includes the verdicts: each candidate is judged as it is relaxed.
+  result.timings.push_back({"step2", ms_since(t2)});
   result.parameters = x;
-
-  // Verdict.
-  announce("stability");
-  auto t3 = Clock::now();
-  const StabilityReport stability = check_stability(problem, vars, x, options);
-  result.slips = stability.slips;
-  result.equilibrium_residual = stability.equilibrium_residual;
-  result.stable = result.slips.empty();
-  result.timings.push_back({"stability", ms_since(t3)});
+  const bool at_rest = result.equilibrium_residual <= kEquilibriumTolerance && !curved_down;
+  result.stable = result.slips.empty() && at_rest;
 
   const std::vector<Mat4> frames = assembly.part_frames(x);
   for (int i = 0; i < assembly.part_count(); ++i) {
@@ -130,24 +241,30 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     result.parts.push_back({assembly.label(PartId{i}),
                             n.part->type_name,
                             n.environment,
-                            problem.target && problem.target->part.value == i,
+                            whole.target && whole.target->part.value == i,
                             Frame::from_matrix(frames[static_cast<std::size_t>(i)])});
   }
-  if (problem.target) {
-    result.target = pose_error(
-        *problem.target,
-        Rigid<double>::from_matrix(frames[static_cast<std::size_t>(problem.target->part.value)]));
+  if (whole.target) {
+    result.target =
+        pose_error(*whole.target, Rigid<double>::from_matrix(frames[whole.target->part.index()]));
+    for (const std::vector<double>& motion : target_neutral) {
+      if (turns_target_about_vertical(assembly, *whole.target, x, motion)) {
+        result.target.twist_free = true;
+        result.target_step1.twist_free = true;
+      }
+    }
   }
   result.max_gap_mm = max_gap(assembly, x, &result.max_gap_deg);
   double energy = 0;
   for (std::size_t i = 0; i < frames.size(); ++i) {
-    energy += problem.masses[i] * (frames[i].topLeftCorner<3, 3>() * problem.coms[i] +
-                                   frames[i].topRightCorner<3, 1>())[2];
+    energy += whole.masses[i] * (frames[i].topLeftCorner<3, 3>() * whole.coms[i] +
+                                 frames[i].topRightCorner<3, 1>())[2];
   }
   result.energy = energy;
   if (!converged && result.termination == Termination::kConverged) {
     result.termination = Termination::kMaxIterations;
   }
+  if (result.slips.empty() && !at_rest) result.termination = Termination::kNotConverged;
   if (options.deadline && Clock::now() > *options.deadline) {
     result.termination = Termination::kTimeout;
     result.diagnostics.error(codes::kTimeLimit,
@@ -155,11 +272,12 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   }
   if (result.stable) {
     std::string how = "nothing slides off under gravity";
-    if (problem.target) {
+    if (whole.target) {
       // How far gravity moved the target from where step 1 put it: a sag, not a failure.
-      const std::size_t t = static_cast<std::size_t>(problem.target->part.value);
-      const Mat4 before = assembly.part_frames(step1.x)[t] * problem.target->base.matrix();
-      const Mat4 after = frames[t] * problem.target->base.matrix();
+      const std::size_t t = whole.target->part.index();
+      const Mat4 before =
+          assembly.part_frames(result.step1_parameters)[t] * whole.target->base.matrix();
+      const Mat4 after = frames[t] * whole.target->base.matrix();
       const double moved = (after.topRightCorner<3, 1>() - before.topRightCorner<3, 1>()).norm();
       const double turned = Eigen::AngleAxisd(Mat3(before.topLeftCorner<3, 3>().transpose() *
                                                    after.topLeftCorner<3, 3>()))
@@ -175,8 +293,21 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     }
     result.stability_notes.push_back(fmt::format("stable: {}", how));
     result.message = "stable";
-  } else {
+  } else if (!result.slips.empty()) {
     result.message = fmt::format("falls apart: {}", result.slips.front().message);
+  } else {
+    result.message =
+        result.equilibrium_residual > kEquilibriumTolerance
+            ? fmt::format(
+                  "did not converge: the potential still slopes by {:.1e} (mm per mm or "
+                  "degree) where step 2 stopped; an equilibrium is below {:.0e}",
+                  result.equilibrium_residual,
+                  kEquilibriumTolerance)
+            : fmt::format(
+                  "did not converge: step 2 stopped where the potential curves down "
+                  "({:.1e}), a balance point, not a rest state",
+                  result.smallest_curvature);
+    result.diagnostics.error(codes::kNotAtRest, result.message);
   }
   return result;
 }
@@ -186,22 +317,36 @@ std::string SolveResult::summary() const {
   s += "FabHaL solve report\n";
   s += fmt::format("  {:<28}{}\n", "termination", to_string(termination));
   s += fmt::format(
-      "  {:<28}{}\n", "verdict", stable ? "STABLE" : (feasible ? "FALLS APART" : "INFEASIBLE"));
+      "  {:<28}{}\n",
+      "verdict",
+      stable ? "STABLE"
+             : (!feasible ? "INFEASIBLE" : (slips.empty() ? "DID NOT CONVERGE" : "FALLS APART")));
   s += fmt::format("  {:<28}{:.3f} mm, {:.3f}°  ({} start{})\n",
                    "target error after step 1",
                    target_step1.position_mm,
                    target_step1.rotation_deg,
                    step1_starts,
                    step1_starts == 1 ? "" : "s");
-  s += fmt::format("  {:<28}{:.3f} mm, {:.3f}°\n",
+  s += fmt::format("  {:<28}{:.3f} mm, {:.3f}° (tilt {:.1f}°, twist {:.1f}°{})\n",
                    "target error after step 2",
                    target.position_mm,
-                   target.rotation_deg);
+                   target.rotation_deg,
+                   target.tilt_deg,
+                   target.twist_deg,
+                   target.twist_free ? ", free: it turns at no cost" : "");
   s += fmt::format(
       "  {:<28}{:.2e} mm, {:.2e}°\n", "largest connection gap", max_gap_mm, max_gap_deg);
   s += fmt::format("  {:<28}{:.2e} (slope of the potential, mm per mm or degree)\n",
                    "equilibrium residual",
                    equilibrium_residual);
+  s += fmt::format(
+      "  {:<28}{:.2e} ({} neutral direction{}{})\n",
+      "smallest curvature",
+      smallest_curvature,
+      neutral_directions.size(),
+      neutral_directions.size() == 1 ? "" : "s",
+      escapes ? fmt::format(", {} escape{} from a balance point", escapes, escapes == 1 ? "" : "s")
+              : "");
   for (const Slip& slip : slips) s += fmt::format("  {:<28}{}\n", "slips", slip.message);
   for (const std::string& n : stability_notes) s += fmt::format("  {:<28}{}\n", "note", n);
   std::string times;

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 
 #include "random.h"
 #include "steps.h"
@@ -20,8 +21,11 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   best.closed = true;
   if (!p.target) return best;
   best.error = error_at(p, best.x);
-  const Variables vars = select_variables(a, /*physics=*/false);
-  if (vars.index.empty()) return best;
+  const Variables vars = select_variables(a, /*physics=*/false, &p);
+  if (vars.index.empty()) {
+    best.candidates.push_back({best.x, best.error, false});
+    return best;
+  }
 
   auto score = [](const PoseError& e) {
     return e.position_mm * e.position_mm + e.rotation_deg * e.rotation_deg;
@@ -60,6 +64,13 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
       if (a.parameters()[i].spec.tag == ParamTag::kUnbounded) r.x[i] = wrap_360(r.x[i]);
     }
     const PoseError e = error_at(p, r.x);
+    // Starts that end where another did are one candidate.
+    bool seen = false;
+    for (const Step1Result::Candidate& c : best.candidates) {
+      seen = seen || (std::abs(score(c.error) - score(e)) < 1e-6 &&
+                      std::abs(c.error.position_mm - e.position_mm) < 1e-3);
+    }
+    if (!seen) best.candidates.push_back({r.x, e, !r.converged});
     if (score(e) < best_score - 1e-9) {
       best_score = score(e);
       best.x = r.x;
@@ -67,6 +78,16 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
       best.hit_iteration_limit = !r.converged;
     }
   }
+  if (best.candidates.empty()) best.candidates.push_back({best.x, best.error, false});
+  std::stable_sort(best.candidates.begin(),
+                   best.candidates.end(),
+                   [&](const Step1Result::Candidate& u, const Step1Result::Candidate& v) {
+                     return score(u.error) < score(v.error);
+                   });
+  // The best candidate is the result (ties go to the earlier start, the verified one first).
+  best.x = best.candidates.front().x;
+  best.error = best.candidates.front().error;
+  best.hit_iteration_limit = best.candidates.front().hit_iteration_limit;
   return best;
 }
 

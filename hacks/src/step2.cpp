@@ -84,6 +84,31 @@ StabilityReport check_stability(const Problem& p,
       report.slips.push_back(slip);
     }
   }
+  // Second order: the curvature along the allowed motions. Neutral directions are named by
+  // the parameters they move most.
+  const solvers::ManifoldSolver::Curvature curv = solver.curvature(pt);
+  report.neutral_threshold = curv.neutral_threshold;
+  if (curv.eigenvalues.size() > 0) report.smallest_curvature = curv.eigenvalues[0];
+  for (int i = 0; i < curv.eigenvalues.size(); ++i) {
+    if (std::abs(curv.eigenvalues[i]) > curv.neutral_threshold) continue;
+    const Eigen::VectorXd d = curv.directions.col(i);
+    const double largest = d.cwiseAbs().maxCoeff();
+    NeutralDirection nd;
+    std::vector<double> motion(a.values().size(), 0.0);
+    for (int k = 0; k < n; ++k) {
+      const int index = vars.index[static_cast<std::size_t>(k)];
+      motion[static_cast<std::size_t>(index)] = d[k] * vars.scale[static_cast<std::size_t>(k)];
+      if (std::abs(d[k]) < 0.3 * largest) continue;
+      const ParamInfo& info = a.parameters()[static_cast<std::size_t>(index)];
+      nd.parameters.push_back(
+          fmt::format("{} {}", a.label(info.part, info.primitive), info.spec.name));
+    }
+    std::string list;
+    for (const std::string& name : nd.parameters) list += (list.empty() ? "" : ", ") + name;
+    nd.description = fmt::format("moves {} at no cost", list);
+    report.neutral_directions.push_back(std::move(nd));
+    report.neutral_motions.push_back(std::move(motion));
+  }
   return report;
 }
 

@@ -16,6 +16,7 @@ struct StepResult {
   bool converged = true;
   bool closed = true;
   int iterations = 0;
+  int escapes = 0;
   std::string note;
 };
 
@@ -49,11 +50,19 @@ class AssemblySolver {
 };
 
 struct Step1Result {
-  std::vector<double> x;
+  std::vector<double> x;  ///< the best start's configuration
   PoseError error;
   int starts = 0;
   bool closed = false;
   bool hit_iteration_limit = false;
+  /// Every start that closed, best first (the best is x): step 2 relaxes each, since the
+  /// nearest configuration to the target may not be the one that holds.
+  struct Candidate {
+    std::vector<double> x;
+    PoseError error;
+    bool hit_iteration_limit = false;
+  };
+  std::vector<Candidate> candidates;
 };
 
 /// Step 1: start 0 is the configuration the connects verified; the others are seeded random
@@ -69,6 +78,11 @@ StepResult run_step2(const Problem& p,
 struct StabilityReport {
   std::vector<Slip> slips;
   double equilibrium_residual = 0;
+  double smallest_curvature = 0;  ///< of the reduced Hessian (0 if nothing can move)
+  double neutral_threshold = 0;
+  std::vector<NeutralDirection> neutral_directions;
+  /// Neutral directions in the full parameter vector (for the target's free twist).
+  std::vector<std::vector<double>> neutral_motions;
 };
 
 /// The verdict at x: the equilibrium residual (largest slope of the potential along the

@@ -46,19 +46,51 @@ PoseError pose_error(const TargetModel& t, const Rigid<double>& part_frame) {
   auto angle_between = [](const Vec3& u, const Vec3& v) {
     return std::atan2(u.cross(v).norm(), u.dot(v)) * kRadToDeg;
   };
+  // Tilt: how far the direction that is up in the goal pose is carried away from up; twist:
+  // what is left after undoing the tilt, a turn about the vertical. Against `goal`, which is
+  // the goal itself or its symmetric twin, whichever the target is nearer.
+  auto tilt_of = [&](const Mat3& goal) {
+    return angle_between(actual.R * (goal.transpose() * Vec3::UnitZ()), Vec3::UnitZ());
+  };
+  auto twist_to = [&](const Mat3& goal) {
+    const Vec3 up_now = actual.R * (goal.transpose() * Vec3::UnitZ());
+    const Mat3 untilt =
+        Eigen::Quaterniond::FromTwoVectors(up_now, Vec3::UnitZ()).toRotationMatrix();
+    const Mat3 rest = untilt * actual.R * goal.transpose();
+    return std::atan2(rest(1, 0), rest(0, 0)) * kRadToDeg;
+  };
+  e.tilt_deg = tilt_of(t.goal.R);
   if (t.symmetry.free_axis) {
     const Vec3 u = actual.R * *t.symmetry.free_axis;
     const Vec3 g = t.goal.R * *t.symmetry.free_axis;
     e.rotation_deg = angle_between(u, g);
-    if (t.symmetry.half_turn_axis) e.rotation_deg = std::min(e.rotation_deg, angle_between(u, -g));
+    if (t.symmetry.half_turn_axis) {
+      e.rotation_deg = std::min(e.rotation_deg, angle_between(u, -g));
+      e.tilt_deg = std::min(e.tilt_deg, 180.0 - e.tilt_deg);
+    }
+    // A spin about the free axis is no error: twist is that of the axis about the vertical.
+    const Vec3 uh(u.x(), u.y(), 0);
+    const Vec3 gh(g.x(), g.y(), 0);
+    if (uh.norm() > 1e-9 && gh.norm() > 1e-9) {
+      double tw = std::atan2(gh.cross(uh).z(), gh.dot(uh)) * kRadToDeg;
+      if (t.symmetry.half_turn_axis && std::abs(tw) > 90) tw -= tw > 0 ? 180 : -180;
+      e.twist_deg = tw;
+    }
     return e;
   }
   auto geodesic = [&](const Mat3& goal) {
     return Eigen::AngleAxisd(Mat3(goal.transpose() * actual.R)).angle() * kRadToDeg;
   };
   e.rotation_deg = geodesic(t.goal.R);
-  if (t.symmetry.half_turn_axis)
-    e.rotation_deg = std::min(e.rotation_deg, geodesic(t.goal_turned.R));
+  e.twist_deg = twist_to(t.goal.R);
+  if (t.symmetry.half_turn_axis) {
+    const double turned = geodesic(t.goal_turned.R);
+    if (turned < e.rotation_deg) {
+      e.rotation_deg = turned;
+      e.tilt_deg = tilt_of(t.goal_turned.R);
+      e.twist_deg = twist_to(t.goal_turned.R);
+    }
+  }
   return e;
 }
 

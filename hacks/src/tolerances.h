@@ -10,6 +10,10 @@ namespace fabkit::hacks::detail {
 /// in results, so a converged solve is an equilibrium with room to spare.
 inline constexpr double kGradientTolerance = 1e-9;
 
+/// A result whose potential still slopes by more than this along some allowed motion is not an
+/// equilibrium (docs/result-format.md): it is reported as "did not converge", never as stable.
+inline constexpr double kEquilibriumTolerance = 1e-6;
+
 /// Cycle closures count as closed below this (mm, degrees) inside the solvers: round-off of
 /// chains of a few hundred mm, well below the 1e-6 mm the results promise.
 inline constexpr double kClosureTolerance = 1e-10;
@@ -23,7 +27,7 @@ inline constexpr double kInequalityMargin = 1e-6;
 
 /// Curvatures below this fraction of the largest are neutral: the potential does not change
 /// along them (a hook on a level rod), so they get no Newton step.
-inline constexpr double kNeutralCurvature = 1e-8;
+inline constexpr double kNeutralCurvature = 1e-6;
 
 /// The minimal orientation residuals of a closure also vanish at a half turn; a closed
 /// configuration whose real orientation gap exceeds this (degrees) is rejected.

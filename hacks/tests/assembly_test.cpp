@@ -38,20 +38,23 @@ TEST(Assembly, DemoMatchesReferenceAtDefaultParameters) {
     double value, lo, hi;
     ParamTag tag;
   };
+  // The reference's parameters, plus ψ (where around a rod the contact is) at 0 for each rod.
   const Expected params[] = {
       {"t", 0.5, 0, 1, ParamTag::kBoundedAndOpen},
       {"phi", 90, 45, 135, ParamTag::kBoundedAndOpen},
+      {"psi", 0, 0, 360, ParamTag::kUnbounded},
       {"theta", 90, 0, 270, ParamTag::kBoundedAndOpen},
       {"t", 0.5, 0, 1, ParamTag::kBoundedAndClamped},
       {"phi", 90, 45, 135, ParamTag::kBoundedAndClamped},
+      {"psi", 0, 0, 360, ParamTag::kUnbounded},
       {"theta", 135, 0, 270, ParamTag::kBoundedAndOpen},
       {"phi", 90, 45, 135, ParamTag::kBoundedAndOpen},
       {"theta", 135, 0, 270, ParamTag::kBoundedAndOpen},
       {"phi", 90, 45, 135, ParamTag::kBoundedAndOpen},
       {"theta", 171, 0, 342, ParamTag::kBoundedAndClamped},
   };
-  ASSERT_EQ(a.parameter_count(), 10);
-  for (int i = 0; i < 10; ++i) {
+  ASSERT_EQ(a.parameter_count(), 12);
+  for (int i = 0; i < 12; ++i) {
     const ParamInfo& p = a.parameters()[static_cast<std::size_t>(i)];
     EXPECT_EQ(p.spec.name, params[i].name) << i;
     EXPECT_DOUBLE_EQ(a.values()[static_cast<std::size_t>(i)], params[i].value) << i;

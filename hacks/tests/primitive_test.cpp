@@ -34,7 +34,7 @@ TEST(Primitive, TypeNamesRoundTripAndAcceptPaperSpellings) {
 TEST(Primitive, OpenRodParametersAreBoundedAndOpen) {
   const Primitive rod = Primitive::make("rod", PrimitiveType::kRod, rod_shape(5, 100));
   const auto ps = rod.connector_params();
-  ASSERT_EQ(ps.size(), 2u);
+  ASSERT_EQ(ps.size(), 3u);
   EXPECT_EQ(ps[0].name, "t");
   EXPECT_EQ(ps[0].tag, ParamTag::kBoundedAndOpen);
   EXPECT_TRUE(ps[0].critical_dim);
@@ -42,12 +42,18 @@ TEST(Primitive, OpenRodParametersAreBoundedAndOpen) {
   EXPECT_EQ(ps[1].name, "phi");
   EXPECT_DOUBLE_EQ(ps[1].lo, 45);
   EXPECT_DOUBLE_EQ(ps[1].hi, 135);
+  // Where around the rod the contact is: any angle (the reference fixes it at 0).
+  EXPECT_EQ(ps[2].name, "psi");
+  EXPECT_EQ(ps[2].tag, ParamTag::kUnbounded);
+  EXPECT_DOUBLE_EQ(ps[2].init, 0);
 }
 
 TEST(Primitive, ClosedRodClampsItsParameters) {
   Primitive rod = Primitive::make("rod", PrimitiveType::kRod, rod_shape(3, 72));
   rod.is_open = false;
-  for (const auto& p : rod.connector_params()) EXPECT_EQ(p.tag, ParamTag::kBoundedAndClamped);
+  for (const auto& p : rod.connector_params()) {
+    EXPECT_EQ(p.tag, p.name == "psi" ? ParamTag::kUnbounded : ParamTag::kBoundedAndClamped);
+  }
 }
 
 TEST(Primitive, HookTagsAndRanges) {

@@ -22,6 +22,13 @@ class Variant:
     def target_error(self):
         return self.result.target_error
 
+    @property
+    def design_error(self):
+        """What the design can still be judged by: position (mm) plus tilt (degrees) plus the
+        twist about the vertical unless the assembly turns the target there at no cost."""
+        e = self.result.target_pose_error
+        return e["position_mm"] + e["tilt_deg"] + (0.0 if e["twist_free"] else abs(e["twist_deg"]))
+
     def __repr__(self):
         pos, rot = self.result.target_error
         verdict = "stable" if self.stable else "falls apart"
@@ -31,7 +38,8 @@ class Variant:
 def sweep(build, grid, threads=None, progress=True):
     """Builds ``build(**params)`` for every combination of ``grid`` (a dict from parameter
     name to a list of values), solves them all on C++ threads, and returns the variants
-    ranked: stable ones first, then by target error (position mm + rotation degrees).
+    ranked: stable ones first, then by design error (position mm + tilt degrees + twist
+    degrees, the twist left out where the target turns freely about the vertical).
 
     A variant whose program raises fabkit.Error (a connect that cannot be made) is left out
     and reported in the returned list's ``rejected`` attribute."""
@@ -54,7 +62,7 @@ def sweep(build, grid, threads=None, progress=True):
         params.append(p)
     results = _k.solve_many(built, threads or os.cpu_count() or 1, progress)
     variants = [Variant(p, r) for p, r in zip(params, results)]
-    variants.sort(key=lambda v: (not v.stable, v.target_error[0] + v.target_error[1]))
+    variants.sort(key=lambda v: (not v.stable, v.design_error))
     ranked = _Ranked(variants)
     ranked.rejected = rejected
     return ranked

@@ -370,6 +370,22 @@ void fabkit::python::bind_hacks(py::module_ m) {
                                return py::make_tuple(s.result.target.position_mm,
                                                      s.result.target.rotation_deg);
                              })
+      .def_property_readonly(
+          "target_pose_error",
+          [](const Solved& s) {
+            py::dict d;
+            d["position_mm"] = s.result.target.position_mm;
+            d["rotation_deg"] = s.result.target.rotation_deg;
+            d["tilt_deg"] = s.result.target.tilt_deg;
+            d["twist_deg"] = s.result.target.twist_deg;
+            d["twist_free"] = s.result.target.twist_free;
+            return d;
+          },
+          "The target's error split into position, tilt from up and twist about the vertical "
+          "(twist_free: the assembly turns it about the vertical at no cost)")
+      .def_property_readonly(
+          "termination",
+          [](const Solved& s) { return std::string(to_string(s.result.termination)); })
       .def_property_readonly("step1_target_error",
                              [](const Solved& s) {
                                return py::make_tuple(s.result.target_step1.position_mm,

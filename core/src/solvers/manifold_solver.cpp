@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace fabkit::solvers {
 
@@ -64,7 +65,11 @@ std::vector<int> ManifoldSolver::off_bounds(const Point& p) const {
 Eigen::VectorXd ManifoldSolver::multipliers(const Point& p, const std::vector<int>& free) const {
   if (p.J.rows() == 0) return Eigen::VectorXd();
   if (free.empty()) return Eigen::VectorXd::Zero(p.J.rows());
-  return columns(p.J, free).transpose().completeOrthogonalDecomposition().solve(rows(p.g, free));
+  // Redundant closure equations (fixed joints) make J rank-deficient: drop its near-zero
+  // singular values, as null_space() does, or the multipliers blow up with round-off.
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(columns(p.J, free).transpose());
+  cod.setThreshold(1e-9);
+  return cod.solve(rows(p.g, free));
 }
 
 ManifoldSolver::Active ManifoldSolver::active_set(const Point& p) const {
@@ -81,7 +86,8 @@ ManifoldSolver::Active ManifoldSolver::active_set(const Point& p) const {
   return act;
 }
 
-ManifoldSolver::Point ManifoldSolver::evaluate(const Eigen::VectorXd& z) {
+ManifoldSolver::Point ManifoldSolver::evaluate(const Eigen::VectorXd& z,
+                                               const std::vector<int>* binding) {
   Point p;
   p.z = z;
   const int no = problem_.objectives();
@@ -97,8 +103,16 @@ ManifoldSolver::Point ManifoldSolver::evaluate(const Eigen::VectorXd& z) {
                      static_cast<std::size_t>(col)];
   };
   std::vector<int> active;
-  for (int i = 0; i < ni; ++i) {
-    if (value(no + m + i) > -options_.inequality_margin) active.push_back(no + m + i);
+  if (binding) {
+    for (int i : *binding) active.push_back(no + m + i);
+    p.binding = *binding;
+  } else {
+    for (int i = 0; i < ni; ++i) {
+      if (value(no + m + i) > -options_.inequality_margin) {
+        active.push_back(no + m + i);
+        p.binding.push_back(i);
+      }
+    }
   }
   const int rows_total = m + static_cast<int>(active.size());
   p.h.resize(rows_total);
@@ -147,7 +161,7 @@ ManifoldSolver::Point ManifoldSolver::step(const Point& from,
   Eigen::VectorXd z = from.z;
   for (std::size_t i = 0; i < act.free.size(); ++i) z[act.free[i]] += dF[static_cast<int>(i)];
   Point trial = evaluate(z.cwiseMax(lo_).cwiseMin(hi_));
-  trial.valid = project(trial);
+  trial.valid = project(trial) && problem_.acceptable(trial.z.data());
   return trial;
 }
 
@@ -168,7 +182,7 @@ Eigen::MatrixXd ManifoldSolver::lagrangian_hessian(const Point& p, const Active&
     const double eps = 1e-6 * std::max(1.0, std::abs(p.z[k]));
     Eigen::VectorXd zp = p.z;
     zp[k] += eps;
-    H.col(i) = (grad_l(evaluate(zp)) - g0) / eps;
+    H.col(i) = (grad_l(evaluate(zp, &p.binding)) - g0) / eps;
   }
   return H;
 }
@@ -261,7 +275,31 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
   return finish(cur, it, max_iterations, out);
 }
 
+ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
+  Curvature c;
+  const Active act = active_set(p);
+  c.free = act.free;
+  if (act.Z.cols() == 0) return c;
+  Eigen::MatrixXd H = act.Z.transpose() * lagrangian_hessian(p, act) * act.Z;
+  H = 0.5 * (H + H.transpose());
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
+  c.eigenvalues = eig.eigenvalues();
+  const Eigen::MatrixXd local = act.Z * eig.eigenvectors();
+  c.directions = Eigen::MatrixXd::Zero(n_, local.cols());
+  for (std::size_t i = 0; i < act.free.size(); ++i) {
+    c.directions.row(act.free[i]) = local.row(static_cast<int>(i));
+  }
+  const double largest = c.eigenvalues.size() ? c.eigenvalues.cwiseAbs().maxCoeff() : 0.0;
+  c.neutral_threshold = std::max(options_.neutral_floor, options_.neutral_curvature * largest);
+  return c;
+}
+
 ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_iterations) {
+  // A trust-region Newton method on the manifold (Nocedal & Wright, ch. 4): each step solves
+  // min gᵀp + ½pᵀHp within |p| ≤ Δ in the eigenbasis of the reduced Hessian H, so negative
+  // curvature is followed down (a balance point is left, not kept) and neutral directions get
+  // no step unless the potential slopes along them. Δ grows on steps the model predicts well
+  // and shrinks on the others.
   Result out;
   Point cur = evaluate(z0.cwiseMax(lo_).cwiseMin(hi_));
   out.closed = project(cur);
@@ -269,33 +307,81 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
     out.z = cur.z;
     return out;
   }
+  double radius = 0.2 * options_.max_step;
   int it = 0;
   for (; it < max_iterations; ++it) {
     if (out_of_time()) break;
     const Active act = active_set(cur);
     if (act.Z.cols() == 0) break;
     const Eigen::VectorXd rg = act.Z.transpose() * rows(cur.g, act.free);
-    if (rg.cwiseAbs().maxCoeff() < options_.gradient_tolerance) break;  // equilibrium
     Eigen::MatrixXd H = act.Z.transpose() * lagrangian_hessian(cur, act) * act.Z;
     H = 0.5 * (H + H.transpose());
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
-    const double floor =
-        std::max(1e-10, options_.neutral_curvature * eig.eigenvalues().cwiseAbs().maxCoeff());
-    const Eigen::VectorXd ev = eig.eigenvalues().cwiseAbs().cwiseMax(floor);
-    const Eigen::VectorXd p =
-        -eig.eigenvectors() * (eig.eigenvectors().transpose() * rg).cwiseQuotient(ev);
-    bool moved = false;
-    const double slope = rg.dot(p);
-    for (double alpha = 1.0; alpha > 1e-10; alpha *= 0.5) {
-      Point trial = step(cur, act, alpha * (act.Z * p));
-      if (!trial.valid) continue;
-      if (trial.f <= cur.f + 1e-4 * alpha * std::min(slope, 0.0)) {
-        moved = trial.f < cur.f;
-        cur = std::move(trial);
-        break;
+    const Eigen::VectorXd& raw = eig.eigenvalues();
+    const Eigen::MatrixXd& V = eig.eigenvectors();
+    const double neutral =
+        std::max(options_.neutral_floor, options_.neutral_curvature * raw.cwiseAbs().maxCoeff());
+    // Curvatures within ± neutral are 0; gradient components below tolerance are 0.
+    Eigen::VectorXd lambda = raw;
+    for (int i = 0; i < lambda.size(); ++i) {
+      if (std::abs(lambda[i]) <= neutral) lambda[i] = 0;
+    }
+    Eigen::VectorXd c = V.transpose() * rg;
+    for (int i = 0; i < c.size(); ++i) {
+      if (std::abs(c[i]) <= 0.1 * options_.gradient_tolerance) c[i] = 0;
+    }
+    const bool stationary = rg.cwiseAbs().maxCoeff() < options_.gradient_tolerance;
+    if (stationary && lambda[0] >= 0) break;  // a minimum (up to neutral directions)
+
+    auto step_for = [&](double mu) {
+      Eigen::VectorXd q = Eigen::VectorXd::Zero(rg.size());
+      for (int i = 0; i < lambda.size(); ++i) {
+        if (c[i] == 0) continue;
+        q -= (c[i] / (lambda[i] + mu)) * V.col(i);
+      }
+      return q;
+    };
+    // The trust-region subproblem: μ = 0 if H is positive there and the step fits; otherwise
+    // the μ > max(0, -λ_min) that puts the step on the boundary.
+    Eigen::VectorXd p;
+    const double lambda_min = lambda[0];
+    bool interior = lambda_min > 0 || (lambda_min == 0 && c[0] == 0);
+    if (interior) {
+      for (int i = 0; i < lambda.size() && interior; ++i) interior = lambda[i] > 0 || c[i] == 0;
+    }
+    if (interior) p = step_for(0.0);
+    if (!interior || p.norm() > radius) {
+      const double floor_mu = std::max(0.0, -lambda_min);
+      double lo_mu = floor_mu;
+      double hi_mu = floor_mu + std::max(1e-12, c.norm() / radius);
+      while (step_for(hi_mu).norm() > radius) hi_mu = floor_mu + 2 * (hi_mu - floor_mu);
+      for (int k = 0; k < 80; ++k) {
+        const double mid = 0.5 * (lo_mu + hi_mu);
+        (step_for(mid).norm() > radius ? lo_mu : hi_mu) = mid;
+      }
+      p = step_for(hi_mu);
+      // The hard case: no gradient along the most negative direction (a balance point), so
+      // the step falls short of the boundary: go the rest of the way along that direction.
+      if (lambda_min < 0 && p.norm() < 0.99 * radius) {
+        const double extra = std::sqrt(std::max(0.0, radius * radius - p.squaredNorm()));
+        p += (c[0] > 0 ? -extra : extra) * V.col(0);
       }
     }
-    if (!moved) break;  // no further decrease within round-off
+    const double predicted = -(rg.dot(p) + 0.5 * p.dot(H * p));
+    if (!(predicted > 1e-15 * std::max(1.0, std::abs(cur.f)))) break;  // nothing left to gain
+    Point trial = step(cur, act, act.Z * p);
+    const double actual = trial.valid ? cur.f - trial.f : -HUGE_VAL;
+    const double rho = actual / predicted;
+    if (trial.valid && actual > 0 && rho > 0.1) {
+      if (lambda_min < 0 && stationary) ++out.escapes;
+      cur = std::move(trial);
+      if (rho > 0.75 && p.norm() > 0.99 * radius) radius = std::min(2 * radius, options_.max_step);
+    } else {
+      radius *= 0.25;
+    }
+    if (rho < 0.25) radius = std::min(radius, 0.25 * p.norm());
+    if (radius < 1e-10) break;  // the model cannot find a lower point: as good as it gets
+    if (out.escapes > options_.max_escapes) break;
   }
   return finish(cur, it, max_iterations, out);
 }

@@ -19,8 +19,13 @@ void apply_connector(ConnectorKind kind, const PrimitiveShape& s, const T* q, Ri
   const T zero(0);
   const T deg(kDegToRad);
   switch (kind) {
-    case ConnectorKind::kRod:  // (t, φ): T(0, r, (t-½)L) · Rx(-90) · Rx(φ-90)
-      m.translate(zero, T(s.radius), (q[0] - T(0.5)) * T(s.length)).rotate_x(q[1] - T(180));
+    case ConnectorKind::kRod:  // (t, φ, ψ): T(0, 0, (t-½)L) · Rz(ψ) · T(0, r, 0) · Rx(φ-180)
+      // ψ puts the contact anywhere around the rod's surface; at ψ = 0 this is the reference's
+      // RodMCF, T(0, r, (t-½)L) · Rx(-90) · Rx(φ-90), whose contact is one fixed line.
+      m.translate(zero, zero, (q[0] - T(0.5)) * T(s.length))
+          .rotate_z(q[2])
+          .translate(zero, T(s.radius), zero)
+          .rotate_x(q[1] - T(180));
       return;
     case ConnectorKind::kRodCenterline:  // (t): T(0, 0, (t-½)L) · Rx(-90)
       m.translate(zero, zero, (q[0] - T(0.5)) * T(s.length)).rotate_x(T(-90));

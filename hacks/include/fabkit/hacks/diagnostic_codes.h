@@ -43,6 +43,8 @@ inline constexpr DiagnosticCode kNoEnvironment{"no-environment", DiagnosticClass
 inline constexpr DiagnosticCode kTargetMissing{"target-missing", DiagnosticClass::kInfeasible};
 /// A part is in the design but connected to nothing (a warning).
 inline constexpr DiagnosticCode kNotConnected{"not-connected", DiagnosticClass::kInfeasible};
+/// Step 2 ended away from a rest state (the potential slopes or curves down there).
+inline constexpr DiagnosticCode kNotAtRest{"not-at-rest", DiagnosticClass::kInfeasible};
 /// A connection slips off under gravity.
 inline constexpr DiagnosticCode kFallsApart{"falls-apart", DiagnosticClass::kFallsApart};
 

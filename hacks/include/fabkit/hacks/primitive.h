@@ -23,7 +23,7 @@ std::optional<PrimitiveType> primitive_type_from_string(std::string_view s);
 /// How a primitive's connector frame is parameterised (the reference's MCF classes). The
 /// spelling of to_string() is the reference's ctype ("HookFlex", "RodCtl", ...).
 enum class ConnectorKind {
-  kRod,             ///< (t, φ): point on the rod surface, tilt ±45°
+  kRod,             ///< (t, φ, ψ): point on the rod surface, tilt ±45°, angle around the rod
   kRodCenterline,   ///< (t): point on the rod axis
   kHook,            ///< (θ): point on the inner side of the hook wire
   kHookFlex,        ///< (θ, φ)

@@ -39,12 +39,23 @@ enum class Termination {
   kInfeasible,     ///< the constraints could not be satisfied
   kMaxIterations,  ///< an optimisation ran out of iterations (result still usable)
   kTimeout,        ///< stopped at options.deadline (result incomplete)
+  kNotConverged,   ///< step 2 ended where the potential still slopes or curves down: not a rest
+                   ///< state (the result is reported, but not as stable)
 };
 std::string_view to_string(Termination t);
 
+/// How far the target is from where end_with asked, split into what a user can act on.
 struct PoseError {
   double position_mm = 0;
   double rotation_deg = 0;  ///< geodesic angle, modulo the target primitive's symmetries
+  /// How far the target's up direction (the world up of the goal pose, in the target's own
+  /// frame) is tilted away from up: what gravity decides.
+  double tilt_deg = 0;
+  /// The rest of the rotation: a turn about the vertical (signed, (-180, 180]).
+  double twist_deg = 0;
+  /// Whether the assembly can turn the target about the vertical at no cost (a chain hanging
+  /// from one point): then the twist is where it happens to rest, not an error of the design.
+  bool twist_free = false;
 };
 
 /// A part's solved world frame.
@@ -61,6 +72,13 @@ struct Slip {
   ConnectionId connection;
   int parameter = -1;   ///< index into the assembly's parameter vector
   std::string message;  ///< "DoubleHook#2.hook1 slides off the open end of door.rod (t = 1)"
+};
+
+/// A motion the potential does not change along (a hook free to slide on a level rod): the
+/// rest state is a family, and the reported one is where the solve happened to stop.
+struct NeutralDirection {
+  std::vector<std::string> parameters;  ///< the parameters it moves most ("DoubleHook#1.hook1 θ")
+  std::string description;              ///< "moves DoubleHook#1.hook1 θ at no cost"
 };
 
 struct StageTiming {
@@ -86,6 +104,12 @@ struct SolveResult {
   /// Largest slope of the potential (mean centre-of-mass height, mm) along any motion the
   /// connections and bounds allow, per mm of sliding or degree of turning; ~0 at equilibrium.
   double equilibrium_residual = 0;
+  /// The smallest curvature of the potential along the allowed motions at the result (the
+  /// reduced Hessian's smallest eigenvalue, mm of mean height per unit² of motion): ≥ 0 up to
+  /// the neutral threshold at a minimum.
+  double smallest_curvature = 0;
+  std::vector<NeutralDirection> neutral_directions;
+  int escapes = 0;    ///< times step 2 stepped off a saddle or a maximum
   double energy = 0;  ///< Σ m·z_com (mass units · mm)
   int step1_starts = 0;
   std::vector<StageTiming> timings;

@@ -6,7 +6,10 @@
 /// the active constraints:
 ///  - fit(): Levenberg-Marquardt on least-squares residuals r(z) (f = ½‖r‖²);
 ///  - relax(): Newton on a scalar potential f(z) with the Hessian of the Lagrangian (finite
-///    differences of exact gradients), eigenvalues made positive so every step descends;
+///    differences of exact gradients), in the eigenbasis of the reduced Hessian: positive
+///    curvature gets a Newton step, negative curvature a descent step (and, at a stationary
+///    point, an escape step: saddles and maxima are not minima), and directions the potential
+///    does not curve along (neutral) get no step unless it slopes along them;
 ///  - close(): Levenberg-Marquardt on h alone, from an arbitrary point.
 /// Dense Eigen throughout: the kits' problems have tens to a few hundred variables.
 
@@ -29,6 +32,13 @@ class ManifoldProblem {
   virtual int inequalities() const = 0;
   /// Values of every row and the row-major Jacobian (rows × variables) at z.
   virtual void evaluate(const double* z, double* values, double* jacobian) = 0;
+  /// Whether a point where the equalities hold is really on the manifold the problem means
+  /// (equations with spurious solutions, such as minimal orientation residuals that also
+  /// vanish at a half turn, say no here).
+  virtual bool acceptable(const double* z) {
+    (void)z;
+    return true;
+  }
 };
 
 struct ManifoldSolverOptions {
@@ -40,8 +50,15 @@ struct ManifoldSolverOptions {
   double projection_tolerance = 1e-7;
   /// Inequality rows within this of binding are treated as active.
   double inequality_margin = 1e-6;
-  /// Curvatures below this (relative to the largest) are neutral: no step along them.
-  double neutral_curvature = 1e-8;
+  /// Curvatures within ± this (relative to the largest, and at least neutral_floor) are
+  /// neutral: the potential does not change along them.
+  double neutral_curvature = 1e-6;
+  double neutral_floor = 1e-9;
+  /// Longest step (scaled units, ≈ mm or degrees) along neutral directions with a slope, and
+  /// of any step: relax() walks, it does not jump.
+  double max_step = 50;
+  /// Escapes from stationary points that are not minima, before giving up.
+  int max_escapes = 20;
   /// Stop at this time (servers, time limits). None: no limit.
   std::optional<std::chrono::steady_clock::time_point> deadline;
 };
@@ -52,12 +69,13 @@ class ManifoldSolver {
   struct Point {
     Eigen::VectorXd z;
     bool valid = true;
-    double f = 0;        ///< objective: ½‖r‖² or the potential
-    Eigen::VectorXd g;   ///< its gradient
-    Eigen::VectorXd r;   ///< least-squares residuals (fit only)
-    Eigen::MatrixXd Jr;  ///< their Jacobian
-    Eigen::VectorXd h;   ///< equalities, then the binding inequalities
-    Eigen::MatrixXd J;   ///< their Jacobian
+    double f = 0;              ///< objective: ½‖r‖² or the potential
+    Eigen::VectorXd g;         ///< its gradient
+    Eigen::VectorXd r;         ///< least-squares residuals (fit only)
+    Eigen::MatrixXd Jr;        ///< their Jacobian
+    Eigen::VectorXd h;         ///< equalities, then the binding inequalities
+    Eigen::MatrixXd J;         ///< their Jacobian
+    std::vector<int> binding;  ///< which inequalities (0-based) are in h, in order
   };
   /// The motions allowed at a point.
   struct Active {
@@ -70,6 +88,15 @@ class ManifoldSolver {
     bool closed = true;     ///< the equalities hold
     bool timed_out = false;
     int iterations = 0;
+    int escapes = 0;  ///< relax(): steps away from saddles and maxima
+  };
+  /// Second-order information at a point: the reduced Hessian of the Lagrangian along the
+  /// allowed motions, in its eigenbasis.
+  struct Curvature {
+    Eigen::VectorXd eigenvalues;   ///< ascending
+    Eigen::MatrixXd directions;    ///< columns: the eigenvectors, in z coordinates
+    double neutral_threshold = 0;  ///< |eigenvalue| below this is neutral
+    std::vector<int> free;         ///< coordinates the directions move
   };
 
   ManifoldSolver(ManifoldProblem& problem,
@@ -89,7 +116,9 @@ class ManifoldSolver {
   Result relax(const Eigen::VectorXd& z0, int max_iterations);
 
   // ---- the pieces, for verdicts built on top (stability tests, second-order checks) --------
-  Point evaluate(const Eigen::VectorXd& z);
+  /// Everything at z. The binding inequalities are those within the margin, or exactly
+  /// `binding` when given (derivatives by differences need the same rows at every point).
+  Point evaluate(const Eigen::VectorXd& z, const std::vector<int>* binding = nullptr);
   /// Coordinates at a bound stay there unless the objective, after the constraints take their
   /// share, pulls them back inside.
   Active active_set(const Point& p) const;
@@ -101,6 +130,8 @@ class ManifoldSolver {
   Eigen::MatrixXd lagrangian_hessian(const Point& p, const Active& act);
   /// Minimum-norm Gauss-Newton back onto h = 0, moving only coordinates off their bounds.
   bool project(Point& p);
+  /// The curvature of the potential along the allowed motions at p.
+  Curvature curvature(const Point& p);
   const Eigen::VectorXd& lower() const { return lo_; }
   const Eigen::VectorXd& upper() const { return hi_; }
 
