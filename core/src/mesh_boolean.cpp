@@ -63,6 +63,44 @@ bool to_cgal(const TriangleMesh& mesh, Mesh& out) {
   return true;
 }
 
+using ExactTransform = CGAL::Aff_transformation_3<Epeck>;
+
+ExactTransform exact_transform(const Mat4& m) {
+  return ExactTransform(m(0, 0),
+                        m(0, 1),
+                        m(0, 2),
+                        m(0, 3),
+                        m(1, 0),
+                        m(1, 1),
+                        m(1, 2),
+                        m(1, 3),
+                        m(2, 0),
+                        m(2, 1),
+                        m(2, 2),
+                        m(2, 3));
+}
+
+// A placed operand in exact arithmetic; false if it is not a closed solid.
+bool to_exact(const SolidInput& in, ExactMesh& out) {
+  if (!in.hull.empty()) {
+    std::vector<Epeck::Point_3> points;
+    for (const PlacedPoints& set : in.hull) {
+      const ExactTransform t = exact_transform(set.placement);
+      for (const Vec3& p : set.points)
+        points.push_back(t.transform(Epeck::Point_3(p.x(), p.y(), p.z())));
+    }
+    if (points.size() < 4) return false;
+    CGAL::convex_hull_3(points.begin(), points.end(), out);
+    return out.number_of_faces() >= 4 && CGAL::is_closed(out);
+  }
+  if (!to_cgal(in.mesh, out) || !CGAL::is_closed(out)) return false;
+  if (in.placement != Mat4::Identity()) {
+    const ExactTransform t = exact_transform(in.placement);
+    for (const auto v : out.vertices()) out.point(v) = t.transform(out.point(v));
+  }
+  return true;
+}
+
 template <class Mesh>
 TriangleMesh from_cgal(const Mesh& mesh) {
   TriangleMesh out;
@@ -100,7 +138,14 @@ std::string SolidCheck::problems() const {
   auto add = [&](const std::string& s) { out += (out.empty() ? "" : "; ") + s; };
   if (!manifold) add("not manifold");
   if (!closed) add(fmt::format("not closed ({} boundary edges)", boundary_edges));
-  if (self_intersecting) add("self-intersecting");
+  if (self_intersecting) {
+    add(fmt::format(
+        "self-intersecting ({} pairs of triangles, first near [{:.3f}, {:.3f}, {:.3f}])",
+        intersecting_pairs,
+        intersection_at.x(),
+        intersection_at.y(),
+        intersection_at.z()));
+  }
   if (closed && !outward) add(fmt::format("inside out (volume {:.3f} mm³)", volume));
   return out;
 }
@@ -122,7 +167,22 @@ SolidCheck check_solid(const TriangleMesh& mesh) {
     c.manifold = to_cgal(mesh, sm);
     if (!c.manifold) return c;
     c.closed = CGAL::is_closed(sm);
-    c.self_intersecting = PMP::does_self_intersect(sm);
+    std::vector<std::pair<FloatMesh::Face_index, FloatMesh::Face_index>> pairs;
+    PMP::self_intersections(sm, std::back_inserter(pairs));
+    c.self_intersecting = !pairs.empty();
+    c.intersecting_pairs = static_cast<int>(pairs.size());
+    if (!pairs.empty()) {
+      Vec3 sum = Vec3::Zero();
+      int k = 0;
+      for (const auto f : {pairs.front().first, pairs.front().second}) {
+        for (const auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) {
+          const auto& p = sm.point(v);
+          sum += Vec3(p.x(), p.y(), p.z());
+          ++k;
+        }
+      }
+      c.intersection_at = sum / k;
+    }
     std::vector<std::size_t> component(sm.number_of_faces());
     c.components =
         static_cast<int>(PMP::connected_components(sm, CGAL::make_property_map(component)));
@@ -160,8 +220,8 @@ TriangleMesh convex_hull(std::span<const Vec3> points) {
   }
 }
 
-std::optional<TriangleMesh> mesh_boolean(std::span<const TriangleMesh> add,
-                                         std::span<const TriangleMesh> subtract,
+std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
+                                         std::span<const SolidInput> subtract,
                                          std::string_view what,
                                          Diagnostics& diags) {
   auto fail = [&](const std::string& why) -> std::optional<TriangleMesh> {
@@ -172,12 +232,12 @@ std::optional<TriangleMesh> mesh_boolean(std::span<const TriangleMesh> add,
   try {
     std::vector<ExactMesh> adds(add.size()), subs(subtract.size());
     for (std::size_t i = 0; i < add.size(); ++i) {
-      if (!to_cgal(add[i], adds[i]) || !CGAL::is_closed(adds[i])) {
+      if (!to_exact(add[i], adds[i])) {
         return fail(fmt::format("solid {} to add is not a closed manifold", i + 1));
       }
     }
     for (std::size_t i = 0; i < subtract.size(); ++i) {
-      if (!to_cgal(subtract[i], subs[i]) || !CGAL::is_closed(subs[i])) {
+      if (!to_exact(subtract[i], subs[i])) {
         return fail(fmt::format("solid {} to subtract is not a closed manifold", i + 1));
       }
     }
@@ -203,10 +263,27 @@ std::optional<TriangleMesh> mesh_boolean(std::span<const TriangleMesh> add,
   }
 }
 
+namespace {
+std::vector<SolidInput> as_inputs(std::span<const TriangleMesh> meshes) {
+  std::vector<SolidInput> out;
+  out.reserve(meshes.size());
+  for (const TriangleMesh& m : meshes) out.push_back(SolidInput{m, Mat4::Identity(), {}});
+  return out;
+}
+}  // namespace
+
+std::optional<TriangleMesh> mesh_boolean(std::span<const TriangleMesh> add,
+                                         std::span<const TriangleMesh> subtract,
+                                         std::string_view what,
+                                         Diagnostics& diags) {
+  const std::vector<SolidInput> a = as_inputs(add), b = as_inputs(subtract);
+  return mesh_boolean(std::span<const SolidInput>(a), std::span<const SolidInput>(b), what, diags);
+}
+
 std::optional<TriangleMesh> mesh_union(std::span<const TriangleMesh> solids,
                                        std::string_view what,
                                        Diagnostics& diags) {
-  return mesh_boolean(solids, {}, what, diags);
+  return mesh_boolean(solids, std::span<const TriangleMesh>(), what, diags);
 }
 
 std::optional<TriangleMesh> mesh_difference(const TriangleMesh& solid,

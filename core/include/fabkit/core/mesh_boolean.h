@@ -37,6 +37,8 @@ struct SolidCheck {
   int boundary_edges = 0;          ///< edges with one face (0 for a closed mesh)
   int components = 0;              ///< connected pieces
   double volume = 0;               ///< mm³, enclosed volume (meaningful when closed)
+  int intersecting_pairs = 0;      ///< pairs of triangles that intersect
+  Vec3 intersection_at = Vec3::Zero();  ///< mm: centroid of the first such pair
   /// closed, manifold, not self-intersecting, outward: a printable solid.
   bool valid_solid() const { return manifold && closed && !self_intersecting && outward; }
   /// "" when valid, else what is wrong ("not closed (12 boundary edges); self-intersecting").
@@ -53,6 +55,31 @@ bool self_intersects(const TriangleMesh& mesh);
 /// Convex hull of `points` as a closed outward triangle mesh whose vertices are input points;
 /// empty when the points span less than 3 dimensions.
 TriangleMesh convex_hull(std::span<const Vec3> points);
+
+/// Points in their own frame, placed by an affine map applied in exact arithmetic.
+struct PlacedPoints {
+  std::vector<Vec3> points;
+  Mat4 placement = Mat4::Identity();
+};
+
+/// One operand of an exact boolean: a closed solid in its own frame placed by `placement`, or
+/// (when `hull` is not empty) the convex hull of placed point sets. Placements are applied
+/// exactly, so what is coplanar or collinear in a solid's own frame (a prism's cap, a vertex
+/// shared with a hull) stays exactly so in the result: build primitives axis-aligned and place
+/// them, rather than rotating them in double first.
+struct SolidInput {
+  TriangleMesh mesh;
+  Mat4 placement = Mat4::Identity();
+  std::vector<PlacedPoints> hull;
+};
+
+/// (∪ `add`) \ (∪ `subtract`) of placed solids, exactly, rounded to double once. nullopt with
+/// a boolean-failed diagnostic naming `what` (and the operand) when an operand is not a
+/// closed manifold solid, a hull is flat, or the result is not a manifold.
+std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
+                                         std::span<const SolidInput> subtract,
+                                         std::string_view what,
+                                         Diagnostics& diags);
 
 /// (∪ `add`) \ (∪ `subtract`), exactly, rounded once. `what` names the result in messages
 /// ("joint 07"). nullopt with a boolean-failed diagnostic when an input is not a closed
