@@ -19,11 +19,16 @@
 namespace fabkit::cli {
 
 std::span<const KitCommands> kits() {
-  static constexpr std::array<KitCommands, 1> kAll = {
+  static constexpr std::array<KitCommands, 2> kAll = {
       KitCommands{"hacks",
                   "fixture hacks from everyday parts (FabHaL); build solves and exports",
                   hacks_check,
                   hacks_build},
+      KitCommands{"rods",
+                  "rod-and-joint structures (RodSteward); build writes printable joints, a cut "
+                  "plan and an assembly order",
+                  rods_check,
+                  rods_build},
   };
   return kAll;
 }

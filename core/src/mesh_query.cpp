@@ -94,7 +94,7 @@ std::vector<std::vector<int>> nearest_neighbors(std::span<const Vec3> points, in
   SearchTree tree(entries.begin(), entries.end());
   const unsigned want = static_cast<unsigned>(std::min<std::size_t>(k, points.size() - 1)) + 1;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    Search search(tree, std::get<0>(entries[i]), want);
+    Search search(tree, std::get<0>(entries[i]), want, 0, true, Search::Distance(), false);
     auto& out = result[i];
     out.reserve(want);
     for (const auto& [entry, d2] : search) {

@@ -173,7 +173,9 @@ Balance compute_balance(const Structure& s,
                         const Parameters& p,
                         const Layout& l,
                         std::span<const JointMass> joints,
-                        double ground_tolerance) {
+                        double ground_tolerance,
+                        std::span<const PointLoad> loads,
+                        double gravity) {
   Balance b;
   Vec3 moment = Vec3::Zero();
   const double rod_kg_per_mm = p.rod_material.density * 1e-9 * p.section_area();
@@ -189,6 +191,11 @@ Balance compute_balance(const Structure& s,
   for (const JointMass& j : joints) {
     b.mass += j.mass;
     moment += j.mass * j.center;
+  }
+  for (const PointLoad& load : loads) {
+    const double m = std::max(0.0, -load.force.z()) / gravity;
+    b.mass += m;
+    moment += m * s.nodes[static_cast<std::size_t>(load.node)].position;
   }
   b.center_of_mass = b.mass > 0 ? Vec3(moment / b.mass) : Vec3::Zero();
   b.ground_z = std::numeric_limits<double>::infinity();
@@ -350,7 +357,8 @@ CheckReport check(const Structure& s,
       estimated = estimate_joint_masses(s, p, l);
       joint_masses = estimated;
     }
-    r.balance = compute_balance(s, p, l, joint_masses, options.ground_tolerance);
+    r.balance = compute_balance(
+        s, p, l, joint_masses, options.ground_tolerance, options.loads, options.gravity);
     const Balance& b = r.balance;
     const std::string contacts = list_joints(s, b.ground_nodes);
     if (!b.stands) {

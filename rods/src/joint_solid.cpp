@@ -20,6 +20,7 @@ std::optional<JointSolid> make_joint_solid(const Structure& s,
   // Rounding the exact result to double can, in rare near-degenerate configurations, fold a
   // sliver; a different (still sub-micrometre) separation of the cylinders avoids it.
   std::optional<TriangleMesh> joint;
+  SolidCheck solid;
   JointPieces pieces;
   for (const double separation : {1.0 / 1024, 3.0 / 1024, 7.0 / 1024}) {
     pieces = joint_pieces(s, p, l, node, separation);
@@ -28,7 +29,7 @@ std::optional<JointSolid> make_joint_solid(const Structure& s,
                          std::span<const SolidInput>(pieces.subtract),
                          name,
                          attempt);
-    if (joint && check_solid(*joint).valid_solid()) break;
+    if (joint && (solid = check_solid(*joint)).valid_solid()) break;
     if (!joint) {
       diags.append(attempt);
       return std::nullopt;
@@ -65,7 +66,9 @@ std::optional<JointSolid> make_joint_solid(const Structure& s,
         const double before = joint->volume();
         const std::vector<TriangleMesh> cut = {*cutter};
         auto engraved = mesh_difference(*joint, cut, name + " (engraving)", text_diags);
-        if (engraved && check_solid(*engraved).valid_solid()) {
+        SolidCheck engraved_solid;
+        if (engraved && (engraved_solid = check_solid(*engraved)).valid_solid()) {
+          solid = engraved_solid;
           out.engraved_volume = before - engraved->volume();
           out.engraving = spot;
           joint = std::move(engraved);
@@ -86,7 +89,7 @@ std::optional<JointSolid> make_joint_solid(const Structure& s,
       }
     }
   }
-  out.solid = check_solid(*joint);
+  out.solid = solid;
   if (!out.solid.valid_solid()) {
     diags.error(codes::kBooleanFailed,
                 fmt::format("{} is not a valid solid: {}", name, out.solid.problems()));

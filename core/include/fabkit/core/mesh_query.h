@@ -32,7 +32,7 @@ class MeshRayQuery {
   std::unique_ptr<Impl> impl_;
 };
 
-/// For each point, the indices of its `k` nearest other points, nearest first (fewer when
+/// For each point, the indices of its `k` nearest other points, in no particular order (fewer when
 /// there are fewer points).
 std::vector<std::vector<int>> nearest_neighbors(std::span<const Vec3> points, int k);
 

@@ -61,6 +61,10 @@ struct CheckOptions {
   double ground_tolerance = 1.0;  ///< mm: nodes this close to the lowest node touch the floor
   double near_miss = 10.0;        ///< mm: report the closest pair of rods within this clearance
   bool balance = true;
+  /// Downward loads count as weight at their nodes (a laptop on a table's corner tips it as
+  /// much as a heavy joint there would); gravity in m/s² converts them to mass.
+  std::vector<PointLoad> loads;
+  double gravity = 9.81;
 };
 
 struct CheckReport {
@@ -81,12 +85,15 @@ struct CheckReport {
 std::vector<JointMass> estimate_joint_masses(const Structure& s,
                                              const Parameters& p,
                                              const Layout& l);
-/// Balance from rod masses (density · area · ℓ) and the given joint masses.
+/// Balance from rod masses (density · area · ℓ), the given joint masses, and the downward
+/// part of `loads` as weight (N → kg by `gravity`).
 Balance compute_balance(const Structure& s,
                         const Parameters& p,
                         const Layout& l,
                         std::span<const JointMass> joints,
-                        double ground_tolerance);
+                        double ground_tolerance,
+                        std::span<const PointLoad> loads = {},
+                        double gravity = 9.81);
 
 /// Rods sharing no joint that intersect (closest axis distance < 2r), found with a sweep over
 /// bounding boxes: O(m log m + pairs) for m rods.

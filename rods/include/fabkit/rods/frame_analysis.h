@@ -17,20 +17,6 @@
 
 namespace fabkit::rods {
 
-/// A force applied at a node (N, world axes).
-struct PointLoad {
-  int node = 0;
-  Vec3 force = Vec3::Zero();
-  SourceLocation where;
-};
-
-/// A node held in place: translations always; rotations too when `fixed`.
-struct Support {
-  int node = 0;
-  bool fixed = false;
-  SourceLocation where;
-};
-
 struct FrameOptions {
   bool self_weight = true;  ///< rods' and joints' weight
   double gravity = 9.81;    ///< m/s²

@@ -46,6 +46,20 @@ struct Structure {
   std::vector<std::vector<int>> rods_at_nodes() const;
 };
 
+/// A force applied at a node (N, world axes; z up, so weight is −z).
+struct PointLoad {
+  int node = 0;
+  Vec3 force = Vec3::Zero();
+  SourceLocation where;
+};
+
+/// A node held in place: translations always; rotations too when `fixed`.
+struct Support {
+  int node = 0;
+  bool fixed = false;
+  SourceLocation where;
+};
+
 /// Mechanical properties of a rod material.
 struct RodMaterial {
   std::string name = "hardwood";  ///< preset name, or "custom"
