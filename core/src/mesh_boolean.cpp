@@ -8,6 +8,7 @@
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
@@ -17,6 +18,7 @@
 #include <array>
 #include <exception>
 #include <map>
+#include <tuple>
 
 namespace fabkit {
 namespace {
@@ -101,6 +103,35 @@ bool to_exact(const SolidInput& in, ExactMesh& out) {
   return true;
 }
 
+// Vertices sorted by position and faces by their vertices: CGAL's corefinement emits the
+// same solid in an order that depends on memory addresses, and the same input must give the
+// same file (and the same engraving spot, which samples the faces in order).
+TriangleMesh canonical(TriangleMesh m) {
+  std::vector<int> order(m.vertices.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const Vec3& p = m.vertices[static_cast<std::size_t>(a)];
+    const Vec3& q = m.vertices[static_cast<std::size_t>(b)];
+    return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
+  });
+  std::vector<int> new_index(order.size());
+  std::vector<Vec3> vertices(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    new_index[static_cast<std::size_t>(order[k])] = static_cast<int>(k);
+    vertices[k] = m.vertices[static_cast<std::size_t>(order[k])];
+  }
+  for (auto& f : m.faces) {
+    for (int k = 0; k < 3; ++k) f[k] = new_index[static_cast<std::size_t>(f[k])];
+    // Rotate (keeping the orientation) so the smallest index comes first.
+    while (f[0] > f[1] || f[0] > f[2]) f = Eigen::Vector3i(f[1], f[2], f[0]);
+  }
+  std::sort(m.faces.begin(), m.faces.end(), [](const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
+    return std::tie(a[0], a[1], a[2]) < std::tie(b[0], b[1], b[2]);
+  });
+  m.vertices = std::move(vertices);
+  return m;
+}
+
 template <class Mesh>
 TriangleMesh from_cgal(const Mesh& mesh) {
   TriangleMesh out;
@@ -123,6 +154,13 @@ TriangleMesh from_cgal(const Mesh& mesh) {
     if (k == 3) out.faces.push_back(tri);
   }
   return out;
+}
+
+// Whether a rounded mesh intersects itself (or is no longer a manifold).
+bool rounding_folds(const TriangleMesh& m) {
+  FloatMesh sm;
+  if (!to_cgal(m, sm)) return true;
+  return PMP::does_self_intersect(sm);
 }
 
 bool boxes_overlap(const ExactMesh& a, const ExactMesh& b) {
@@ -257,7 +295,17 @@ std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
       }
       result = std::move(out);
     }
-    return from_cgal(result);
+    TriangleMesh rounded = from_cgal(result);
+    if (rounding_folds(rounded)) {
+      // Rounding the exact result to double folded a sliver (vertices closer than an ulp,
+      // needles and caps of near-degenerate intersections). Collapse such sub-micrometre
+      // triangles in exact arithmetic and round again.
+      ExactMesh repaired = result;
+      PMP::experimental::remove_almost_degenerate_faces(repaired, -0.99999, 1e4, 1e-4);
+      TriangleMesh second = from_cgal(repaired);
+      if (!rounding_folds(second) && CGAL::is_closed(repaired)) rounded = std::move(second);
+    }
+    return canonical(std::move(rounded));
   } catch (const std::exception& e) {
     return fail(e.what());
   }

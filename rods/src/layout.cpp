@@ -14,7 +14,12 @@ double safe_offset(double max_cosine, double radius_plus_tolerance) {
 Mat3 rotation_to(const Vec3& w) {
   const Vec3 ez = Vec3::UnitZ();
   const double cz = ez.dot(w);
-  if (cz < -1 + 1e-12) return Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()).toRotationMatrix();
+  if (cz < 0) {
+    // Eq. (1) divides by 1 + e_z·w, which vanishes as w nears −e_z: turn half about x first
+    // (mapping w into the upper half) and apply Eq. (1) there. Same direction, stable twist.
+    const Mat3 half = Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()).toRotationMatrix();
+    return half * rotation_to(half.transpose() * w);
+  }
   const Vec3 v = ez.cross(w);
   Mat3 vx;
   vx << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;

@@ -15,8 +15,9 @@ namespace fabkit::rods {
 double safe_offset(double max_cosine, double radius_plus_tolerance);
 
 /// Eq. (1): the rotation taking e_z to the unit vector `w`, R = I + [e_z×w]× +
-/// [e_z×w]×² / (1 + e_z·w). At w = −e_z (where Eq. (1) divides by zero) it is the half turn
-/// about x.
+/// [e_z×w]×² / (1 + e_z·w), for w in the upper half space (e_z·w ≥ 0). Below, where Eq. (1)
+/// loses precision and divides by zero at −e_z, it is the half turn about x composed with Eq.
+/// (1) of the turned vector: the same direction, a numerically stable twist.
 Mat3 rotation_to(const Vec3& w);
 
 /// One end of a rod: the rod seen from the joint it enters.
