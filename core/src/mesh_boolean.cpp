@@ -303,7 +303,10 @@ std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
       ExactMesh repaired = result;
       PMP::experimental::remove_almost_degenerate_faces(repaired, -0.99999, 1e4, 1e-4);
       TriangleMesh second = from_cgal(repaired);
-      if (!rounding_folds(second) && CGAL::is_closed(repaired)) rounded = std::move(second);
+      if (rounding_folds(second) || !CGAL::is_closed(repaired)) {
+        return fail("rounding the exact result to double makes it intersect itself");
+      }
+      rounded = std::move(second);
     }
     return canonical(std::move(rounded));
   } catch (const std::exception& e) {

@@ -78,28 +78,32 @@ double MeshRayQuery::distance(const Vec3& point) const {
 
 std::vector<std::vector<int>> nearest_neighbors(std::span<const Vec3> points, int k) {
   using Point = K::Point_3;
-  using Entry = std::tuple<Point, int>;
-  using Traits = CGAL::Search_traits_adapter<Entry,
-                                             CGAL::Nth_of_tuple_property_map<0, Entry>,
-                                             CGAL::Search_traits_3<K>>;
+  // The tree holds indices and reads their points through a property map (CGAL's "index as
+  // key" idiom): small nodes, and the neighbours come out as indices directly.
+  using PointMap = CGAL::Pointer_property_map<Point>::type;
+  using Traits = CGAL::Search_traits_adapter<std::size_t, PointMap, CGAL::Search_traits_3<K>>;
   using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
   using SearchTree = Search::Tree;
+  using Distance = Search::Distance;
   std::vector<std::vector<int>> result(points.size());
   if (points.size() < 2 || k <= 0) return result;
-  std::vector<Entry> entries;
-  entries.reserve(points.size());
+  std::vector<Point> pts;
+  pts.reserve(points.size());
+  for (const Vec3& p : points) pts.emplace_back(p.x(), p.y(), p.z());
+  const PointMap map = CGAL::make_property_map(pts);
+  std::vector<std::size_t> indices(points.size());
+  for (std::size_t i = 0; i < indices.size(); ++i) indices[i] = i;
+  SearchTree tree(indices.begin(), indices.end(), typename SearchTree::Splitter(), Traits(map));
+  const Distance distance(map);
+  const unsigned want =
+      static_cast<unsigned>(std::min<std::size_t>(static_cast<std::size_t>(k), points.size() - 1)) +
+      1;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    entries.emplace_back(Point(points[i].x(), points[i].y(), points[i].z()), static_cast<int>(i));
-  }
-  SearchTree tree(entries.begin(), entries.end());
-  const unsigned want = static_cast<unsigned>(std::min<std::size_t>(k, points.size() - 1)) + 1;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    Search search(tree, std::get<0>(entries[i]), want, 0, true, Search::Distance(), false);
+    Search search(tree, pts[i], want, 0, true, distance, false);
     auto& out = result[i];
     out.reserve(want);
-    for (const auto& [entry, d2] : search) {
-      const int j = std::get<1>(entry);
-      if (j != static_cast<int>(i) && static_cast<int>(out.size()) < k) out.push_back(j);
+    for (const auto& [j, d2] : search) {
+      if (j != i && static_cast<int>(out.size()) < k) out.push_back(static_cast<int>(j));
     }
   }
   return result;

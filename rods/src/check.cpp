@@ -15,10 +15,6 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-double polygon_area(double circumradius, int sides) {
-  return 0.5 * sides * circumradius * circumradius * std::sin(2 * std::numbers::pi / sides);
-}
-
 double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
   return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
 }
@@ -149,22 +145,11 @@ std::vector<RodPair> find_rod_intersections(const Structure& s,
 std::vector<JointMass> estimate_joint_masses(const Structure& s,
                                              const Parameters& p,
                                              const Layout& l) {
-  std::vector<JointMass> out(s.nodes.size());
-  const int sides = p.profile_sides();
-  const double shell_area = polygon_area(p.radius + p.wall, sides);
-  const double socket_area = polygon_area(p.socket_circumradius(), sides);
-  const double kg_per_mm3 = p.joint_material.density * 1e-9;
+  std::vector<JointMass> out;
+  out.reserve(s.nodes.size());
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
-    const JointPieces pieces = joint_pieces(s, p, l, static_cast<int>(i));
-    double volume = pieces.hull.empty() ? 0 : pieces.hull.volume();
-    Vec3 moment = volume * (pieces.hull.empty() ? Vec3::Zero() : pieces.hull.centroid());
-    for (const RodEnd* end : l.ends_at(static_cast<int>(i))) {
-      const double v = shell_area * (p.socket + p.wall) - socket_area * (p.socket + p.tolerance);
-      volume += v;
-      moment += v * (end->offset + (p.socket - p.wall) / 2) * end->direction;
-    }
-    out[i].mass = std::max(0.0, volume) * kg_per_mm3;
-    out[i].center = s.nodes[i].position + (volume > 0 ? Vec3(moment / volume) : Vec3::Zero());
+    const JointPieces pieces = joint_pieces(s, p, l, static_cast<int>(i), 1.0 / 1024, false);
+    out.push_back(estimate_joint_mass(s, p, l, static_cast<int>(i), pieces));
   }
   return out;
 }

@@ -225,7 +225,7 @@ class Reader {
       }
     }
     if (auto c = rod["circle_sides"])
-      p.circle_sides = static_cast<int>(in_.integer(c, "circle_sides", 8, 256).value_or(48));
+      p.circle_sides = static_cast<int>(in_.integer(c, "circle_sides", 8, 256).value_or(32));
     if (auto m = rod["material"]) {
       if (m.IsScalar()) {
         const std::string name = m.Scalar();

@@ -86,8 +86,12 @@ TriangleMesh profile_prism(
   return local_prism(radius, sides, t0, t1).transformed(placement_of(frame, origin));
 }
 
-JointPieces joint_pieces(
-    const Structure& s, const Parameters& p, const Layout& l, int node, double separation) {
+JointPieces joint_pieces(const Structure& s,
+                         const Parameters& p,
+                         const Layout& l,
+                         int node,
+                         double separation,
+                         bool exact_operands) {
   (void)s;
   JointPieces j;
   const int sides = p.profile_sides();
@@ -108,14 +112,16 @@ JointPieces joint_pieces(
     // The inner ring V_ij: the prism's first `sides` vertices, placed exactly for the hull.
     PlacedPoints ring{{prism.vertices.begin(), prism.vertices.begin() + sides}, place};
     for (const Vec3& v : ring.points) hull_points.push_back(end->frame * v);
-    hull.hull.push_back(std::move(ring));
     j.reach = std::max(j.reach, g + p.socket + outer[k]);
     j.prisms.push_back(prism.transformed(place));
-    j.add.push_back(SolidInput{std::move(prism), place, {}});
+    if (exact_operands) {
+      hull.hull.push_back(std::move(ring));
+      j.add.push_back(SolidInput{std::move(prism), place, {}});
+    }
   }
   for (const Vec3& v : hull_points) j.reach = std::max(j.reach, v.norm());
   j.hull = convex_hull(hull_points);
-  if (!j.hull.empty()) j.add.insert(j.add.begin(), std::move(hull));
+  if (!j.hull.empty() && exact_operands) j.add.insert(j.add.begin(), std::move(hull));
   for (std::size_t k = 0; k < ends.size(); ++k) {
     const RodEnd* end = ends[k];
     const double g = end->offset;
@@ -147,7 +153,8 @@ Preview make_preview(const Structure& s, const Parameters& p, const Layout& l) {
   Preview v;
   v.joints.reserve(s.nodes.size());
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
-    JointPieces pieces = joint_pieces(s, p, l, static_cast<int>(i));
+    JointPieces pieces = joint_pieces(s, p, l, static_cast<int>(i), 1.0 / 1024, false);
+    v.joint_masses.push_back(estimate_joint_mass(s, p, l, static_cast<int>(i), pieces));
     TriangleMesh joint = std::move(pieces.hull);
     for (const TriangleMesh& prism : pieces.prisms) joint.append(prism);
     const Vec3& at = s.nodes[i].position;
@@ -159,6 +166,27 @@ Preview make_preview(const Structure& s, const Parameters& p, const Layout& l) {
     v.rods.push_back(rod_mesh(s, p, l, static_cast<int>(e)));
   }
   return v;
+}
+
+JointMass estimate_joint_mass(
+    const Structure& s, const Parameters& p, const Layout& l, int node, const JointPieces& pieces) {
+  const int sides = p.profile_sides();
+  auto area = [&](double circumradius) {
+    return 0.5 * sides * circumradius * circumradius * std::sin(2 * std::numbers::pi / sides);
+  };
+  const double shell = area(p.radius + p.wall) * (p.socket + p.wall) -
+                       area(p.socket_circumradius()) * (p.socket + p.tolerance);
+  double volume = pieces.hull.empty() ? 0 : pieces.hull.volume();
+  Vec3 moment = volume * (pieces.hull.empty() ? Vec3::Zero() : pieces.hull.centroid());
+  for (const RodEnd* end : l.ends_at(node)) {
+    volume += shell;
+    moment += shell * (end->offset + (p.socket - p.wall) / 2) * end->direction;
+  }
+  JointMass m;
+  m.mass = std::max(0.0, volume) * p.joint_material.density * 1e-9;
+  m.center = s.nodes[static_cast<std::size_t>(node)].position +
+             (volume > 0 ? Vec3(moment / volume) : Vec3::Zero());
+  return m;
 }
 
 Mat4 print_pose(const Layout& l, int node, const TriangleMesh& local_mesh) {

@@ -19,21 +19,24 @@ std::optional<JointSolid> make_joint_solid(const Structure& s,
   const std::string name = s.joint_name(node);
   // Rounding the exact result to double can, in rare near-degenerate configurations, fold a
   // sliver; a different (still sub-micrometre) separation of the cylinders avoids it.
+  // Rounding the exact result to double can, in rare near-degenerate configurations, fold a
+  // sliver that mesh_boolean cannot repair; a different (still sub-micrometre) separation of
+  // the cylinders avoids it.
   std::optional<TriangleMesh> joint;
-  SolidCheck solid;
   JointPieces pieces;
+  Diagnostics attempt;
   for (const double separation : {1.0 / 1024, 3.0 / 1024, 7.0 / 1024}) {
     pieces = joint_pieces(s, p, l, node, separation);
-    Diagnostics attempt;
+    attempt = Diagnostics{};
     joint = mesh_boolean(std::span<const SolidInput>(pieces.add),
                          std::span<const SolidInput>(pieces.subtract),
                          name,
                          attempt);
-    if (joint && (solid = check_solid(*joint)).valid_solid()) break;
-    if (!joint) {
-      diags.append(attempt);
-      return std::nullopt;
-    }
+    if (joint) break;
+  }
+  if (!joint) {
+    diags.append(attempt);
+    return std::nullopt;
   }
 
   JointSolid out;
@@ -66,9 +69,7 @@ std::optional<JointSolid> make_joint_solid(const Structure& s,
         const double before = joint->volume();
         const std::vector<TriangleMesh> cut = {*cutter};
         auto engraved = mesh_difference(*joint, cut, name + " (engraving)", text_diags);
-        SolidCheck engraved_solid;
-        if (engraved && (engraved_solid = check_solid(*engraved)).valid_solid()) {
-          solid = engraved_solid;
+        if (engraved) {
           out.engraved_volume = before - engraved->volume();
           out.engraving = spot;
           joint = std::move(engraved);
@@ -89,7 +90,8 @@ std::optional<JointSolid> make_joint_solid(const Structure& s,
       }
     }
   }
-  out.solid = solid;
+  // An independent check of the finished joint (closed, manifold, no self-intersections).
+  out.solid = check_solid(*joint);
   if (!out.solid.valid_solid()) {
     diags.error(codes::kBooleanFailed,
                 fmt::format("{} is not a valid solid: {}", name, out.solid.problems()));

@@ -7,6 +7,7 @@
 
 #include "fabkit/core/mesh.h"
 #include "fabkit/core/mesh_boolean.h"
+#include "fabkit/rods/check.h"
 #include "fabkit/rods/layout.h"
 #include "fabkit/rods/structure.h"
 
@@ -50,15 +51,23 @@ JointPieces joint_pieces(const Structure& s,
                          const Parameters& p,
                          const Layout& l,
                          int node,
-                         double separation = 1.0 / 1024);
+                         double separation = 1.0 / 1024,
+                         bool exact_operands = true);
 
 /// The preview: per joint H_i and its prisms in one mesh (overlapping, not unioned), per rod
 /// its prism of radius r over its length ℓ; world frame, mm.
 struct Preview {
   std::vector<TriangleMesh> joints;
   std::vector<TriangleMesh> rods;
+  /// Estimated joint masses (hull + prisms − sockets), for check()'s balance.
+  std::vector<JointMass> joint_masses;
 };
 Preview make_preview(const Structure& s, const Parameters& p, const Layout& l);
+
+/// The estimated mass of a joint from its pieces (kg, centre in world mm): the hull plus each
+/// prism's shell around its socket.
+JointMass estimate_joint_mass(
+    const Structure& s, const Parameters& p, const Layout& l, int node, const JointPieces& pieces);
 
 /// Rod `rod` as cut: radius r, from g_ab to ‖p_b − p_a‖ − g_ba along the edge (world, mm).
 TriangleMesh rod_mesh(const Structure& s, const Parameters& p, const Layout& l, int rod);
