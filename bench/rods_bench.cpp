@@ -96,7 +96,7 @@ void BM_CutPlanHard(benchmark::State& state) {
     for (const int x : {a, b, c})
       pieces.push_back({"p" + std::to_string(pieces.size() + 1), double(x)});
   }
-  pieces.push_back({"p52", 120});
+  pieces.push_back({std::string("p52"), 120});
   const StockSpec stock{1020, 10, 0};
   int count = 0, gap = 0;
   for (auto _ : state) {
