@@ -93,8 +93,11 @@ void BM_CutPlanHard(benchmark::State& state) {
     const int a = 250 + static_cast<int>(rng() % 251), b = 250 + static_cast<int>(rng() % 251),
               c = 1000 - a - b;
     if (c < 250 || c > 500) continue;
-    for (const int x : {a, b, c})
-      pieces.push_back({"p" + std::to_string(pieces.size() + 1), double(x)});
+    for (const int x : {a, b, c}) {
+      char label[16];
+      std::snprintf(label, sizeof label, "p%zu", pieces.size() + 1);
+      pieces.push_back({label, double(x)});
+    }
   }
   pieces.push_back({std::string("p52"), 120});
   const StockSpec stock{1020, 10, 0};
