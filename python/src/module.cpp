@@ -50,4 +50,5 @@ PYBIND11_MODULE(_fabkit, m) {
       });
 
   python::bind_hacks(m.def_submodule("hacks", "the FabHaL kit"));
+  python::bind_rods(m.def_submodule("rods", "the RodSteward kit"));
 }
