@@ -74,9 +74,15 @@ void print_summary(const rods::Design& design, const rods::Summary& s, bool join
       longest,
       total / 1000);
   if (s.cut_plan) {
-    std::printf("  cut plan: %s of %g mm stock (end padding %g mm, kerf %g mm)\n",
-                s.cut_plan->summary.c_str(),
+    const CutPlan& c = *s.cut_plan;
+    const std::string verdict =
+        c.proven_optimal ? std::string("proven optimal")
+                         : fmt::format("{} above the lower bound {}", c.gap(), c.lower_bound);
+    std::printf("  cut plan: %d stock rod%s of %g mm, %s (end padding %g mm, kerf %g mm)\n",
+                c.stock_count(),
+                c.stock_count() == 1 ? "" : "s",
                 p.stock.length,
+                verdict.c_str(),
                 p.stock.end_padding,
                 p.stock.kerf);
   }
