@@ -4,6 +4,7 @@
 #include <Model/COM/NMR_DLLInterfaces.h>
 #include <fmt/format.h>
 
+#include <clocale>
 #include <cmath>
 
 #include "fabkit/core/file_io.h"
@@ -24,10 +25,28 @@ struct Handle {
   }
 };
 
+// lib3mf sets the C locale for its number formatting and leaves it so, which turns the host
+// program's text encoding to ASCII (Python then fails to decode UTF-8 output). Restore it.
+class LocaleGuard {
+ public:
+  LocaleGuard() {
+    if (const char* current = std::setlocale(LC_ALL, nullptr)) saved_ = current;
+  }
+  LocaleGuard(const LocaleGuard&) = delete;
+  LocaleGuard& operator=(const LocaleGuard&) = delete;
+  ~LocaleGuard() {
+    if (!saved_.empty()) std::setlocale(LC_ALL, saved_.c_str());
+  }
+
+ private:
+  std::string saved_;
+};
+
 }  // namespace
 
 std::optional<std::string> encode_3mf(const std::vector<ThreeMfObject>& objects,
                                       Diagnostics& diags) {
+  const LocaleGuard locale;
   auto fail = [&](const std::string& why) -> std::optional<std::string> {
     diags.error(codes::kInternalError, "cannot encode 3MF: " + why);
     return std::nullopt;
@@ -98,6 +117,7 @@ bool write_3mf(const std::vector<ThreeMfObject>& objects,
 std::optional<std::vector<ThreeMfObject>> decode_3mf(const std::string& bytes,
                                                      std::string_view what,
                                                      Diagnostics& diags) {
+  const LocaleGuard locale;
   auto fail = [&](const std::string& why) -> std::optional<std::vector<ThreeMfObject>> {
     diags.error(codes::kMalformedInput,
                 fmt::format("{}: not a readable 3MF package: {}", what, why));

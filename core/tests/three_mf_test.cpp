@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <clocale>
+#include <string>
+
 #include "fabkit/core/mesh_boolean.h"
 
 namespace fabkit {
@@ -25,6 +28,16 @@ TEST(ThreeMf, RoundTripKeepsNamesMeshesAndPlacements) {
   EXPECT_NEAR((*back)[0].transform(0, 3), 50, 1e-6);
   EXPECT_NEAR(check_solid((*back)[0].mesh).volume, 6000, 1e-3);
   EXPECT_TRUE(check_solid((*back)[1].mesh).valid_solid());
+}
+
+TEST(ThreeMf, LeavesTheLocaleAsItWas) {
+  // lib3mf switches to the C locale; a host program (Python) must keep its own.
+  const std::string before = std::setlocale(LC_ALL, nullptr);
+  if (!std::setlocale(LC_ALL, "C.UTF-8")) GTEST_SKIP() << "no C.UTF-8 locale here";
+  Diagnostics d;
+  ASSERT_TRUE(encode_3mf({{"a", shapes::box(Vec3(1, 1, 1))}}, d));
+  EXPECT_STREQ(std::setlocale(LC_CTYPE, nullptr), "C.UTF-8");
+  std::setlocale(LC_ALL, before.c_str());
 }
 
 TEST(ThreeMf, GarbageIsMalformed) {
