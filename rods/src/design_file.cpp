@@ -137,9 +137,29 @@ class Reader {
       return;
     }
     for (NodeInput& n : nodes) n.position *= scale;
-    const Diagnostics invalid = p.validate();
-    for (const Diagnostic& x : invalid)
-      diags_.add(Diagnostic{x.severity, x.code, x.message, in_.start()});
+    // Parameter rules that span keys (ε below σ, ...) are checked on the whole; each message
+    // points at the key it starts with, when the file has it.
+    auto key = [&](const char* section, const char* name) {
+      return root[section] ? root[section][name] : YAML::Node();
+    };
+    const std::vector<std::pair<std::string_view, YAML::Node>> keys = {
+        {"rod radius", key("rod", "radius") ? key("rod", "radius") : key("rod", "diameter")},
+        {"tolerance", key("joint", "tolerance")},
+        {"joint wall", key("joint", "wall")},
+        {"socket length", key("joint", "socket")},
+        {"leaf offset", key("joint", "leaf_offset")},
+        {"stock", root["stock"]},
+        {"rod material", key("rod", "material")},
+        {"joint material", key("joint", "material")},
+        {"minimum rod length", root["min_rod_length"]},
+        {"merge tolerance", root["merge_tolerance"]}};
+    for (const Diagnostic& x : p.validate()) {
+      SourceLocation where = in_.start();
+      for (const auto& [prefix, node] : keys) {
+        if (x.message.starts_with(prefix) && node) where = in_.at(node);
+      }
+      diags_.add(Diagnostic{x.severity, x.code, x.message, where});
+    }
     if (diags_.has_errors_of(DiagnosticClass::kInput)) return;
     auto s = build_structure(nodes, edges, 1, p.merge_tolerance, diags_);
     if (!s) return;

@@ -68,8 +68,11 @@ TEST(DesignFile, ErrorsNameFileLineAndWhatIsWrong) {
             std::string::npos)
       << errors("rod: {material: oack}\n" + net);
   EXPECT_NE(errors("rod: {radus: 3}\n" + net).find("did you mean 'radius'"), std::string::npos);
-  EXPECT_NE(errors("joint: {tolerance: 5, wall: 2}\n" + net).find("smaller than the wall σ = 2 mm"),
-            std::string::npos);
+  EXPECT_NE(
+      errors("joint: {tolerance: 5, wall: 2}\n" + net)
+          .find("d.yaml:3:20: error: tolerance ε is 5; it must be smaller than the wall σ = 2 mm"),
+      std::string::npos)
+      << errors("joint: {tolerance: 5, wall: 2}\n" + net);
   EXPECT_NE(
       errors("nodes:\n  - [0, 0]\nedges:\n  - [1, 2]\n").find("d.yaml:4:5: error: node 1 must be"),
       std::string::npos)
