@@ -28,6 +28,11 @@ std::span<const KitCommands> kits() {
                   "flat-pack furniture from planar pieces; build writes cut sheets and a 3D model",
                   flatpack_check,
                   flatpack_build},
+      KitCommands{"rods",
+                  "rod-and-joint structures (RodSteward); build writes printable joints, a cut "
+                  "plan and an assembly order",
+                  rods_check,
+                  rods_build},
   };
   return kAll;
 }

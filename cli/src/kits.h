@@ -31,5 +31,7 @@ int hacks_check(const DesignInput& input);
 int hacks_build(const DesignInput& input);
 int flatpack_check(const DesignInput& input);
 int flatpack_build(const DesignInput& input);
+int rods_check(const DesignInput& input);
+int rods_build(const DesignInput& input);
 
 }  // namespace fabkit::cli
