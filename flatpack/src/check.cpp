@@ -205,7 +205,8 @@ Analysis check(const Design& design, const CheckOptions& options) {
                             sa, fc.a_edge, sb, fc.b_edge, fc.spec->alignment, offset, rotation),
                         fc.name,
                         fc.spec->text(),
-                        fc.spec->where});
+                        fc.spec->where,
+                        fc.spec->places_only});
   }
   if (!ok) return a;
   detail::place(a.components, resolved, options, a.diagnostics);

@@ -259,7 +259,8 @@ struct Reader {
     if (const YAML::Node cs = root["connections"]; cs && in.is_list(cs, "connections")) {
       for (const YAML::Node& c : cs) {
         if (!in.is_mapping(c, "a connection")) continue;
-        in.check_keys(c, {"connect", "alignment", "offset", "rotation", "name"}, "a connection");
+        in.check_keys(
+            c, {"connect", "alignment", "offset", "rotation", "name", "joint"}, "a connection");
         Connection con;
         con.where = in.at(c);
         if (c["name"]) con.name = in.name(c["name"], "connection name").value_or("");
@@ -294,6 +295,20 @@ struct Reader {
             good = false;
           } else {
             con.alignment = *a;
+          }
+        }
+        if (c["joint"]) {
+          const auto s = in.string(c["joint"], "joint");
+          if (s && *s == "none") {
+            con.places_only = true;
+          } else if (s) {
+            in.error(codes::kInvalidValue,
+                     fmt::format("joint: '{}' is not known; a connection's joint is found from the "
+                                 "geometry, and only 'none' (the connection only places) can be "
+                                 "written",
+                                 *s),
+                     in.at(c["joint"]));
+            good = false;
           }
         }
         for (const char* key : {"offset", "rotation"}) {
@@ -511,6 +526,7 @@ std::string to_yaml(const Design& d) {
         for (const Expression& e : v) out << (e.text.empty() ? std::string("0") : e.text);
         out << YAML::EndSeq;
       }
+      if (c.places_only) out << YAML::Key << "joint" << YAML::Value << "none";
       out << YAML::EndMap;
     }
     out << YAML::EndSeq;
