@@ -10,7 +10,6 @@
 #include "fabkit/core/gltf.h"
 #include "fabkit/core/mesh_io.h"
 #include "fabkit/flatpack/diagnostic_codes.h"
-#include "fabkit/flatpack/joint_widths.h"
 
 namespace fabkit::flatpack {
 
@@ -99,8 +98,6 @@ Json report_json(const BuildSummary& summary) {
   j["name"] = a.name;
   j["termination"] = std::string(to_string(summary.termination));
   Json counts;
-  std::size_t user_connections = 0;
-  for (const Joint& jt : a.joints) (void)jt;
   counts["components"] = a.components.size();
   counts["pieces"] = a.pieces.size();
   counts["joints"] = a.graph_joints();
@@ -113,9 +110,17 @@ Json report_json(const BuildSummary& summary) {
     by_kind[std::string(to_string(k))] = a.joints_of(k);
   counts["cut_joints_by_kind"] = by_kind;
   counts["dimensions"] = a.dimension_count;
-  (void)user_connections;
   j["counts"] = counts;
-  j["meta_parameters"] = a.meta_parameters;
+  Json meta = Json::array();
+  for (const std::string& m : a.meta_parameters) {
+    const auto it = a.meta_drives.find(m);
+    const auto value = a.values.find(m);
+    meta.push_back(
+        {{"name", m},
+         {"value", value == a.values.end() ? 0.0 : value->second},
+         {"drives", it == a.meta_drives.end() ? std::vector<std::string>{} : it->second}});
+  }
+  j["meta_parameters"] = meta;
   Json values = Json::object();
   for (const auto& [k, v] : a.values) values[k] = std::round(v * 1e6) / 1e6 + 0.0;
   j["values"] = values;
@@ -184,43 +189,6 @@ Json report_json(const BuildSummary& summary) {
   j["timings_ms"] = timings;
   j["diagnostics"] = to_json(summary.diagnostics);
   return j;
-}
-
-CutSheet burn_test_sheet(const Material& material,
-                         const std::vector<double>& kerfs_mm,
-                         const std::vector<double>& interferences_mm) {
-  // Each cell: a comb of 3 fingers and a matching strip of 3 dents, drawn with one (Δ, δ).
-  const double t = material.thickness_mm;
-  const double w = 3 * t;  // nominal finger width
-  const double cell_w = 7 * w + 20, cell_h = 2 * (3 * t + 4) + 16;
-  CutSheet s;
-  s.name = fmt::format("burn test, {} {:g} mm", material.name, t);
-  s.width_mm = 10 + cell_w * static_cast<double>(interferences_mm.size());
-  s.height_mm = 10 + cell_h * static_cast<double>(kerfs_mm.size());
-  for (std::size_t r = 0; r < kerfs_mm.size(); ++r) {
-    for (std::size_t c = 0; c < interferences_mm.size(); ++c) {
-      const double x0 = 10 + cell_w * static_cast<double>(c),
-                   y0 = 10 + cell_h * static_cast<double>(r);
-      const DrawnWidths dw = finger_and_opening(w, kerfs_mm[r], interferences_mm[c]);
-      const double e = (dw.finger_mm - w) / 2;
-      // Finger strip: a bar 3t high with three fingers t long on top.
-      Region2d comb{rectangle(x0, y0, x0 + 7 * w, y0 + 2 * t)};
-      Region2d dents{rectangle(x0, y0 + 3 * t + 6, x0 + 7 * w, y0 + 3 * t + 6 + 3 * t)};
-      for (int k = 0; k < 3; ++k) {
-        const double f0 = x0 + w * (1 + 2 * k);
-        comb = unite(comb, {rectangle(f0 - e, y0 + 2 * t - 0.01, f0 + w + e, y0 + 3 * t)});
-        dents = subtract(dents,
-                         {rectangle(f0 + e, y0 + 3 * t + 6 - 1, f0 + w - e, y0 + 3 * t + 6 + t)});
-      }
-      for (const Polygon2d& p : comb) s.add_cut(p);
-      for (const Polygon2d& p : dents) s.add_cut(p);
-      s.labels.push_back({fmt::format("Δ {:g} δ {:g}", kerfs_mm[r], interferences_mm[c]),
-                          Vec2(x0 + 3.5 * w, y0 + 6 * t + 10),
-                          3,
-                          0});
-    }
-  }
-  return s;
 }
 
 BuildSummary build(const Design& design, const BuildOptions& options) {

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <array>
 
 #include "fabkit/core/file_io.h"
@@ -15,11 +16,27 @@ namespace {
 
 constexpr std::array<std::string_view, 4> kKits = {"hacks", "rods", "flatpack", "templates"};
 
+Design load_nested(std::string_view yaml,
+                   std::string_view display_name,
+                   Diagnostics& diags,
+                   const std::filesystem::path& base_dir,
+                   const DesignFileOptions& options,
+                   int depth,
+                   std::vector<std::filesystem::path>& chain);
+
+// A file's identity for finding designs that use themselves (symlinks and ../ resolved).
+std::filesystem::path identity(const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
+  return ec ? path.lexically_normal() : p;
+}
+
 struct Reader {
   YamlReader& in;
   const std::filesystem::path& base_dir;
   const DesignFileOptions& options;
-  int depth;
+  int depth;  ///< 0 for the design the user gave; +1 per level of `uses:`
+  std::vector<std::filesystem::path>& chain;  ///< the files being read, outermost first
 
   std::optional<Expression> expr(const YAML::Node& node, std::string_view what) {
     if (!node.IsScalar()) {
@@ -138,22 +155,43 @@ struct Reader {
         }
         if (depth >= options.max_depth) {
           in.error(codes::kLimitExceeded,
-                   fmt::format("designs used as components nest deeper than {}", options.max_depth),
+                   fmt::format("designs used as components nest deeper than {} levels here ({} "
+                               "uses {})",
+                               options.max_depth,
+                               in.file(),
+                               *file),
                    in.at(kv.second));
           continue;
         }
         const std::filesystem::path path = base_dir / *file;
+        const std::filesystem::path id = identity(path);
+        if (const auto again = std::find(chain.begin(), chain.end(), id); again != chain.end()) {
+          std::vector<std::string> names;
+          for (auto it = again; it != chain.end(); ++it) names.push_back(it->filename().string());
+          names.push_back(id.filename().string());
+          in.error(
+              codes::kInvalidValue,
+              fmt::format("component type {} ({}) would contain itself: {}; a design cannot be "
+                          "a component of itself",
+                          *type,
+                          *file,
+                          fmt::join(names, " uses ")),
+              in.at(kv.second));
+          continue;
+        }
         Diagnostics sub;
         auto text = read_input_file(path, "design file", sub);
         std::shared_ptr<Design> used = std::make_shared<Design>();
         if (text) {
-          DesignFileOptions o = options;
-          o.max_depth = options.max_depth - 1;
-          *used = load_design_text(*text, path.string(), sub, path.parent_path(), o);
+          chain.push_back(id);
+          *used =
+              load_nested(*text, path.string(), sub, path.parent_path(), options, depth + 1, chain);
+          chain.pop_back();
           used->source = path;
         }
         for (Diagnostic dg : sub) {
-          if (!dg.where.known()) dg.where = in.at(kv.second);
+          // A file that cannot be read is reported where it is named.
+          if (!dg.where.known() || dg.where.line == 0) dg.where = in.at(kv.second);
           in.diagnostics().add(dg);
         }
         if (sub.has_errors()) {
@@ -400,13 +438,13 @@ struct Reader {
   }
 };
 
-}  // namespace
-
-Design load_design_text(std::string_view yaml,
-                        std::string_view display_name,
-                        Diagnostics& diags,
-                        const std::filesystem::path& base_dir,
-                        const DesignFileOptions& options) {
+Design load_nested(std::string_view yaml,
+                   std::string_view display_name,
+                   Diagnostics& diags,
+                   const std::filesystem::path& base_dir,
+                   const DesignFileOptions& options,
+                   int depth,
+                   std::vector<std::filesystem::path>& chain) {
   Design d;
   YamlReader in{std::string(display_name), diags};
   const auto root = in.parse_mapping(yaml, "fabkit: flatpack/1, components and connections");
@@ -419,10 +457,21 @@ Design load_design_text(std::string_view yaml,
              tag->where);
     return d;
   }
-  Reader r{in, base_dir, options, 8 - options.max_depth};
-  r.depth = 0;
+  Reader r{in, base_dir, options, depth, chain};
   r.read(*root, d);
   return d;
+}
+
+}  // namespace
+
+Design load_design_text(std::string_view yaml,
+                        std::string_view display_name,
+                        Diagnostics& diags,
+                        const std::filesystem::path& base_dir,
+                        const DesignFileOptions& options) {
+  std::vector<std::filesystem::path> chain;
+  if (!options.file.empty()) chain.push_back(identity(options.file));
+  return load_nested(yaml, display_name, diags, base_dir, options, 0, chain);
 }
 
 Design load_design(const std::filesystem::path& path,
@@ -430,7 +479,8 @@ Design load_design(const std::filesystem::path& path,
                    const DesignFileOptions& options) {
   const auto text = read_input_file(path, "design file", diags);
   if (!text) return {};
-  Design d = load_design_text(*text, path.string(), diags, path.parent_path(), options);
+  std::vector<std::filesystem::path> chain{identity(path)};
+  Design d = load_nested(*text, path.string(), diags, path.parent_path(), options, 0, chain);
   d.source = path;
   return d;
 }

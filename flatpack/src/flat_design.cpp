@@ -174,6 +174,27 @@ struct Flattener {
       if (const auto sub = d.library.find(use.type); sub != d.library.end()) {
         ok = expand(*sub->second, full + ".", material) && ok;
         for (const auto& [param, expr] : use.params) {
+          // A sub-design's parameters are set by name (a dimension can be set as "seat.l").
+          const Design& used = *sub->second;
+          const bool known = param.find('.') != std::string::npos || param == "thickness" ||
+                             std::any_of(used.parameters.begin(),
+                                         used.parameters.end(),
+                                         [&](const DesignParameter& p) { return p.name == param; });
+          if (!known) {
+            std::vector<std::string> names;
+            for (const DesignParameter& p : used.parameters) names.push_back(p.name);
+            diags.error(codes::kUnknownName,
+                        fmt::format("{} ({}) has no parameter '{}'{}; its parameters are {}",
+                                    full,
+                                    use.type,
+                                    param,
+                                    did_you_mean(param, names),
+                                    names.empty() ? std::string("none")
+                                                  : fmt::format("{}", fmt::join(names, ", "))),
+                        expr.where);
+            ok = false;
+            continue;
+          }
           flat.constraints.push_back({Expression{use.name + "." + param, expr.where},
                                       expr,
                                       scope,

@@ -62,10 +62,4 @@ std::vector<TriangleMesh> piece_meshes(const Analysis& analysis);
 /// report.json: pieces, joints by kind, automatic joints, warnings, sheet usage, timings.
 Json report_json(const BuildSummary& summary);
 
-/// A burn-test sheet (paper A.1: users find their own Δ and δ): for each kerf × interference
-/// pair, a labelled pair of a finger strip and a matching dent strip.
-CutSheet burn_test_sheet(const Material& material,
-                         const std::vector<double>& kerfs_mm,
-                         const std::vector<double>& interferences_mm);
-
 }  // namespace fabkit::flatpack
