@@ -45,7 +45,10 @@ struct Reader {
                in.at(node));
       return std::nullopt;
     }
-    return Expression{node.Scalar(), in.at(node)};
+    // Valid UTF-8 of a sane length, so that messages quoting it are too.
+    const auto text = in.string(node, fmt::format("{} (an expression)", what), 1000);
+    if (!text) return std::nullopt;
+    return Expression{*text, in.at(node)};
   }
 
   std::optional<Material> material(const YAML::Node& node, Material m) {
@@ -213,7 +216,9 @@ struct Reader {
         u.name = in.name(c["name"], "component name").value_or("");
         u.type = in.name(c["type"], "component type").value_or("");
         for (const auto& kv : c) {
-          const std::string key = kv.first.Scalar();
+          const auto name = in.name(kv.first, "a component's key");
+          if (!name) continue;
+          const std::string key = *name;
           if (key == "name" || key == "type") continue;
           if (key == "material") {
             u.material = in.name(kv.second, "material name").value_or("");
