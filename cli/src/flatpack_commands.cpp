@@ -7,8 +7,6 @@
 #include <filesystem>
 
 #include "commands.h"
-#include "fabkit/core/dxf.h"
-#include "fabkit/core/file_io.h"
 #include "fabkit/flatpack/build.h"
 #include "fabkit/flatpack/burn_test.h"
 #include "fabkit/flatpack/check.h"
@@ -171,8 +169,8 @@ int flatpack_burn_test(const BurnTestSettings& settings) {
     return exit_code(test.diagnostics);
   }
   const std::filesystem::path dir(settings.output_dir);
-  if (!make_output_directory(dir, d) || !write_svg_sheet(dir / "burn-test.svg", test.sheet, d) ||
-      !write_dxf(dir / "burn-test.dxf", test.sheet, d)) {
+  const std::vector<std::filesystem::path> written = write_burn_test(test, dir, d);
+  if (d.has_errors()) {
     print_diagnostics(d);
     return exit_code(d);
   }
@@ -192,11 +190,8 @@ int flatpack_burn_test(const BurnTestSettings& settings) {
   std::printf(
       "cut it, press each comb into its dent strip and a board into its slot; put the Δ and δ "
       "of the cell that holds firmly into your design's material: {kerf: Δ, interference: δ}\n");
-  std::printf("sheet %g × %g mm\nwrote %s\nwrote %s\n",
-              test.sheet.width_mm,
-              test.sheet.height_mm,
-              (dir / "burn-test.svg").string().c_str(),
-              (dir / "burn-test.dxf").string().c_str());
+  std::printf("sheet %g × %g mm\n", test.sheet.width_mm, test.sheet.height_mm);
+  for (const auto& f : written) std::printf("wrote %s\n", f.string().c_str());
   return kExitOk;
 }
 

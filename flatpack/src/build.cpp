@@ -69,6 +69,33 @@ std::vector<CutSheet> cut_sheets(const Analysis& analysis,
   return sheets;
 }
 
+CutSheet for_dxf(CutSheet sheet) {
+  for (SheetLabel& label : sheet.labels) {
+    const std::string& in = label.text;
+    std::string out;
+    for (std::size_t i = 0; i < in.size();) {
+      const auto c = static_cast<unsigned char>(in[i]);
+      int n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+      if (n == 0 || i + static_cast<std::size_t>(n) > in.size()) {
+        out += '?';  // not UTF-8 (labels are piece names, checked when read)
+        ++i;
+        continue;
+      }
+      if (n == 1) {
+        out += in[i++];
+        continue;
+      }
+      unsigned code = c & (0x7Fu >> n);
+      for (int k = 1; k < n; ++k)
+        code = (code << 6) | (static_cast<unsigned char>(in[i + k]) & 0x3Fu);
+      out += code <= 0xFFFF ? fmt::format("\\U+{:04X}", code) : std::string("?");
+      i += static_cast<std::size_t>(n);
+    }
+    label.text = std::move(out);
+  }
+  return sheet;
+}
+
 std::vector<TriangleMesh> piece_meshes(const Analysis& analysis) {
   std::vector<TriangleMesh> out;
   for (const Piece& p : analysis.pieces) {
@@ -241,7 +268,7 @@ BuildSummary build(const Design& design, const BuildOptions& options) {
             write_svg_sheet(options.output_dir / (stem + ".svg"), sheets[k], io));
     if (options.dxf)
       wrote(options.output_dir / (stem + ".dxf"),
-            write_dxf(options.output_dir / (stem + ".dxf"), sheets[k], io));
+            write_dxf(options.output_dir / (stem + ".dxf"), for_dxf(sheets[k]), io));
   }
   const std::vector<TriangleMesh> meshes = piece_meshes(s.analysis);
   if (options.stl) {

@@ -8,6 +8,9 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "fabkit/core/dxf.h"
+#include "fabkit/core/file_io.h"
+#include "fabkit/flatpack/build.h"
 #include "fabkit/flatpack/diagnostic_codes.h"
 #include "fabkit/flatpack/joint_widths.h"
 
@@ -200,6 +203,18 @@ BurnTest burn_test(const BurnTestOptions& o) {
     }
   }
   return r;
+}
+
+std::vector<std::filesystem::path> write_burn_test(const BurnTest& test,
+                                                   const std::filesystem::path& dir,
+                                                   Diagnostics& diags) {
+  std::vector<std::filesystem::path> written;
+  if (!make_output_directory(dir, diags)) return written;
+  if (write_svg_sheet(dir / "burn-test.svg", test.sheet, diags))
+    written.push_back(dir / "burn-test.svg");
+  if (write_dxf(dir / "burn-test.dxf", for_dxf(test.sheet), diags))
+    written.push_back(dir / "burn-test.dxf");
+  return written;
 }
 
 }  // namespace fabkit::flatpack

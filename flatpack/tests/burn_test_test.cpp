@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "fabkit/core/dxf.h"
+#include "fabkit/flatpack/build.h"
 #include "fabkit/flatpack/joint_widths.h"
 #include "test_support.h"
 
@@ -131,6 +133,22 @@ TEST(BurnTest, TheSheetIsExactlyAsLargeAsItsCellsAndOpensAtScale) {
   const std::string svg = svg_sheet(b.sheet);
   EXPECT_NE(svg.find("width=\"146mm\" height=\"126mm\" viewBox=\"0 0 146 126\""), std::string::npos)
       << svg.substr(0, 400);
+}
+
+// AutoCAD 2000 DXF text is in a code page, not UTF-8: labels go out with \U+XXXX escapes.
+TEST(BurnTest, DxfLabelsEscapeWhatIsNotAscii) {
+  CutSheet s;
+  s.labels.push_back({"Δ 0.1 δ 0.05", Vec2::Zero(), 3, 0});
+  s.labels.push_back({"→ leg_a", Vec2::Zero(), 3, 0});
+  s.labels.push_back({"plain", Vec2::Zero(), 3, 0});
+  const CutSheet d = for_dxf(s);
+  EXPECT_EQ(d.labels[0].text, "\\U+0394 0.1 \\U+03B4 0.05");
+  EXPECT_EQ(d.labels[1].text, "\\U+2192 leg_a");
+  EXPECT_EQ(d.labels[2].text, "plain");
+  Diagnostics diags;
+  const auto dxf = dxf_sheet(d, diags);
+  ASSERT_TRUE(dxf) << diags.format();
+  for (char c : *dxf) EXPECT_LT(static_cast<unsigned char>(c), 0x80);
 }
 
 TEST(BurnTest, ValuesThatMakeNoJointAreRefusedByName) {

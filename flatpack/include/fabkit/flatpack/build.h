@@ -59,6 +59,11 @@ std::vector<CutSheet> cut_sheets(const Analysis& analysis,
 /// closed shell per piece.
 std::vector<TriangleMesh> piece_meshes(const Analysis& analysis);
 
+/// The sheet as the DXF writer should get it: AutoCAD 2000 DXF text is not UTF-8, so every
+/// non-ASCII character of a label ("→", "Δ") is written as the DXF escape \U+XXXX, which CAD
+/// programs show as that character (the SVG keeps UTF-8).
+CutSheet for_dxf(CutSheet sheet);
+
 /// report.json: pieces, joints by kind, automatic joints, warnings, sheet usage, timings.
 Json report_json(const BuildSummary& summary);
 

@@ -9,6 +9,7 @@
 /// Sheet frame: mm, origin at the lower-left corner; cells in rows by Δ (first kerf at the
 /// bottom) and columns by δ.
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,12 @@ struct BurnTest {
 
 /// The sheet for every (Δ, δ) pair of `options`; deterministic, never throws.
 BurnTest burn_test(const BurnTestOptions& options);
+
+/// Writes `dir`/burn-test.svg and `dir`/burn-test.dxf (the directory is made if needed); the
+/// files written, or an I/O diagnostic.
+std::vector<std::filesystem::path> write_burn_test(const BurnTest& test,
+                                                   const std::filesystem::path& dir,
+                                                   Diagnostics& diags);
 
 /// Parses a list of values in mm as a maker writes it on the command line: "0.1", "0.1,0.15,0.2"
 /// or "start:stop:step" (inclusive, "0.05:0.25:0.05"); an input diagnostic naming `what` on
