@@ -795,6 +795,27 @@ Freedom freedom_of(const Joint& j, bool for_a, const std::vector<Piece>& pieces)
   return f;
 }
 
+// A world direction for a maker: "+z", "−y", or the rounded vector.
+std::string direction_text(const Vec3& v) {
+  static const char* const kAxes[] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(std::abs(v[k]) - 1) < 1e-6) return std::string(v[k] > 0 ? "+" : "−") + kAxes[k];
+  }
+  return fmt::format("({:.2f}, {:.2f}, {:.2f})", v.x() + 0.0, v.y() + 0.0, v.z() + 0.0);
+}
+
+std::string freedom_text(const Freedom& f) {
+  switch (f.kind) {
+    case Freedom::kRay:
+      return "along " + direction_text(f.g1);
+    case Freedom::kLine:
+      return "along " + direction_text(f.g1) + " or back";
+    case Freedom::kCone:
+      return "between " + direction_text(f.g1) + " and " + direction_text(f.g2);
+  }
+  return "";
+}
+
 struct Planner {
   const std::vector<Joint>& joints;
   const std::vector<Piece>& pieces;
@@ -937,6 +958,29 @@ void plan_assembly(Analysis& analysis) {
                     "together, nor a sub-design as a whole) slides out along a direction all its "
                     "joints allow; remove one of the connections between them or change a joint",
                     fmt::join(names, ", ")));
+    // Why, piece by piece: the ways out its joints with the others leave it (a few of them).
+    const std::set<int> stuck(planner.stuck.begin(), planner.stuck.end());
+    int explained = 0;
+    for (int p : planner.stuck) {
+      if (explained++ == 4) break;
+      std::vector<std::string> ways;
+      for (const Joint& j : analysis.joints) {
+        const bool is_a = j.piece_a == p;
+        if (!is_a && j.piece_b != p) continue;
+        const int other = is_a ? j.piece_b : j.piece_a;
+        if (!stuck.count(other) || ways.size() == 3) continue;
+        ways.push_back(fmt::format("joint {} ({} with {}) lets it out only {}",
+                                   j.id,
+                                   to_string(j.kind),
+                                   analysis.pieces[static_cast<std::size_t>(other)].name,
+                                   freedom_text(freedom_of(j, is_a, analysis.pieces))));
+      }
+      if (ways.empty()) continue;
+      analysis.diagnostics.note(
+          codes::kNotAssemblable,
+          fmt::format(
+              "{}: {}", analysis.pieces[static_cast<std::size_t>(p)].name, fmt::join(ways, "; ")));
+    }
     return;
   }
   // Assembly is disassembly reversed; a piece goes in against its way out.

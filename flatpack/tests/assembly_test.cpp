@@ -106,6 +106,15 @@ TEST(Assembly, LockedPicnicTableNamesThePiecesThatCannotBeInserted) {
             std::string::npos)
       << message;
   EXPECT_EQ(message.find("table.top lock"), std::string::npos) << message;
+  // And says why, joint by joint: the half lap lets a bench out sideways, the arm's fingers
+  // only upwards.
+  EXPECT_NE(message.find("note: table.bench_front: joint"), std::string::npos) << message;
+  EXPECT_NE(message.find("(slot-slot with table.end_left) lets it out only along −y"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("(finger-hole with table.end_left) lets it out only along +z"),
+            std::string::npos)
+      << message;
   // Why: each bench meets each end frame twice, a half lap in the upright (it must slide in
   // sideways) and fingers from the arm (it must come down onto them).
   for (const char* bench : {"table.bench_front", "table.bench_back"}) {
