@@ -128,6 +128,18 @@ TEST(Assembly, LockedPicnicTableNamesThePiecesThatCannotBeInserted) {
           << bench << " / " << end;
     }
   }
+  // The same in 6 mm plywood (the sub-design cut from the same board).
+  Design six = d;
+  six.material.thickness_mm = 6;
+  for (auto& [type, sub] : six.library) {
+    auto copy = std::make_shared<Design>(*sub);
+    copy->material.thickness_mm = 6;
+    sub = copy;
+  }
+  const Analysis thick = check(six);
+  std::set<std::string> stuck_thick;
+  for (int p : thick.not_insertable) stuck_thick.insert(name_of(thick, p));
+  EXPECT_EQ(stuck_thick, stuck) << thick.diagnostics.format();
   // Remove the second joint of each pair (benches back on the arms only) and it goes together.
   Design fixed = d;
   fixed.components[0].params.erase("seat_gap");
