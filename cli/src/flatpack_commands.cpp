@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "fabkit/flatpack/build.h"
+#include "fabkit/flatpack/burn_test.h"
 #include "fabkit/flatpack/check.h"
 #include "fabkit/flatpack/design_file.h"
 #include "kits.h"
@@ -18,7 +19,7 @@ namespace {
 using namespace fabkit::flatpack;
 
 void print_analysis(const Analysis& a, bool quiet) {
-  if (!quiet) {
+  if (!quiet && a.placed) {
     std::printf(
         "%-24s %-14s %8s  %-28s %s\n", "piece", "material", "t (mm)", "position (mm)", "normal");
     for (const Piece& p : a.pieces) {
@@ -63,6 +64,21 @@ void print_analysis(const Analysis& a, bool quiet) {
       std::printf("\n");
     }
   }
+  if (!quiet && !a.meta_parameters.empty()) {
+    std::printf("\nmeta-parameters:");
+    for (std::size_t k = 0; k < a.meta_parameters.size(); ++k) {
+      const std::string& m = a.meta_parameters[k];
+      const auto drives = a.meta_drives.find(m);
+      const std::size_t n = drives == a.meta_drives.end() ? 0 : drives->second.size();
+      std::printf("%s %s = %g (drives %zu dimension%s)",
+                  k ? "," : "",
+                  m.c_str(),
+                  a.values.count(m) ? a.values.at(m) : 0.0,
+                  n,
+                  n == 1 ? "" : "s");
+    }
+    std::printf("\n");
+  }
   for (const Diagnostic& d : a.diagnostics) {
     if (d.severity != Severity::kNote || !quiet) print_diagnostic(d);
   }
@@ -84,7 +100,9 @@ void print_analysis(const Analysis& a, bool quiet) {
 std::optional<Design> read(const DesignInput& input) {
   Diagnostics d;
   const std::filesystem::path path(input.settings.design);
-  Design design = load_design_text(input.text, path.string(), d, path.parent_path());
+  DesignFileOptions options;
+  options.file = path;
+  Design design = load_design_text(input.text, path.string(), d, path.parent_path(), options);
   design.source = path;
   if (d.has_errors()) {
     print_diagnostics(d);
@@ -131,6 +149,50 @@ int flatpack_build(const DesignInput& input) {
   }
   for (const auto& f : s.files) std::printf("wrote %s\n", f.string().c_str());
   return exit_code(s.diagnostics);
+}
+
+int flatpack_burn_test(const BurnTestSettings& settings) {
+  Diagnostics d;
+  BurnTestOptions o;
+  o.material.name = settings.material;
+  o.material.thickness_mm = settings.thickness_mm;
+  o.finger_width_mm = settings.finger_width_mm;
+  o.kerfs_mm = parse_value_list(settings.kerfs, "--kerf", d);
+  o.interferences_mm = parse_value_list(settings.interferences, "--interference", d);
+  if (d.has_errors()) {
+    print_diagnostics(d);
+    return exit_code(d);
+  }
+  const BurnTest test = burn_test(o);
+  if (test.diagnostics.has_errors()) {
+    print_diagnostics(test.diagnostics);
+    return exit_code(test.diagnostics);
+  }
+  const std::filesystem::path dir(settings.output_dir);
+  const std::vector<std::filesystem::path> written = write_burn_test(test, dir, d);
+  if (d.has_errors()) {
+    print_diagnostics(d);
+    return exit_code(d);
+  }
+  std::printf("burn test for %s %g mm: %zu cells (rows: kerf Δ, columns: interference δ)\n",
+              settings.material.c_str(),
+              settings.thickness_mm,
+              test.cells.size());
+  std::printf("%9s %9s %11s %9s %9s\n", "kerf", "fit", "finger", "dent", "slot");
+  for (const BurnTestCell& c : test.cells) {
+    std::printf("%9g %9g %8.3f mm %6.3f mm %6.3f mm\n",
+                c.kerf_mm,
+                c.interference_mm,
+                c.finger_mm,
+                c.dent_mm,
+                c.slot_mm);
+  }
+  std::printf(
+      "cut it, press each comb into its dent strip and a board into its slot; put the Δ and δ "
+      "of the cell that holds firmly into your design's material: {kerf: Δ, interference: δ}\n");
+  std::printf("sheet %g × %g mm\n", test.sheet.width_mm, test.sheet.height_mm);
+  for (const auto& f : written) std::printf("wrote %s\n", f.string().c_str());
+  return kExitOk;
 }
 
 }  // namespace fabkit::cli

@@ -34,4 +34,15 @@ int flatpack_build(const DesignInput& input);
 int rods_check(const DesignInput& input);
 int rods_build(const DesignInput& input);
 
+/// `fabkit flatpack burn-test`: a sheet of test joints over ranges of kerf and interference.
+struct BurnTestSettings {
+  std::string output_dir;
+  std::string material = "plywood";
+  double thickness_mm = 3;
+  std::string kerfs = "0.05:0.2:0.05";       ///< value, list "a,b" or range "start:stop:step"
+  std::string interferences = "0:0.2:0.05";  ///< likewise
+  double finger_width_mm = 0;                ///< 0: 3 × thickness
+};
+int flatpack_burn_test(const BurnTestSettings& settings);
+
 }  // namespace fabkit::cli

@@ -92,6 +92,30 @@ int main(int argc, char** argv) {
                    "address to listen on; other than loopback, other machines can connect")
       ->capture_default_str();
 
+  BurnTestSettings burn;
+  CLI::App* flatpack_cmd =
+      app.add_subcommand("flatpack", "Flat-pack tools beyond check and build (see subcommands)");
+  flatpack_cmd->require_subcommand(1);
+  CLI::App* burn_cmd = flatpack_cmd->add_subcommand(
+      "burn-test",
+      "Write a sheet of test joints over ranges of kerf and interference (burn-test.svg/.dxf)");
+  burn_cmd->add_option("-o,--output", burn.output_dir, "output directory")->required();
+  burn_cmd->add_option("--thickness", burn.thickness_mm, "board thickness, mm")
+      ->capture_default_str();
+  burn_cmd->add_option("--material", burn.material, "material name for the labels")
+      ->capture_default_str();
+  burn_cmd
+      ->add_option("--kerf",
+                   burn.kerfs,
+                   "kerf Δ per side, mm: a value, a list 0.1,0.15 or a range start:stop:step")
+      ->capture_default_str();
+  burn_cmd->add_option("--interference", burn.interferences, "interference δ, mm: likewise")
+      ->capture_default_str();
+  burn_cmd
+      ->add_option(
+          "--finger-width", burn.finger_width_mm, "nominal finger width, mm (0: 3 × thickness)")
+      ->capture_default_str();
+
   PartsSettings parts;
   CLI::App* parts_cmd =
       app.add_subcommand("parts", "List the hacks parts library, or show one part");
@@ -109,6 +133,7 @@ int main(int argc, char** argv) {
   if (*solve_cmd) return run_solve(solve);
   if (*demo_cmd) return run_demo(demo);
   if (*parts_cmd) return run_parts(parts);
+  if (*burn_cmd) return flatpack_burn_test(burn);
   if (*run_cmd) {
     for (const std::string& extra : run_cmd->remaining()) script_args.push_back(extra);
     return run_python("run", script, script_args);

@@ -10,7 +10,6 @@
 #include "fabkit/core/gltf.h"
 #include "fabkit/core/mesh_io.h"
 #include "fabkit/flatpack/diagnostic_codes.h"
-#include "fabkit/flatpack/joint_widths.h"
 
 namespace fabkit::flatpack {
 
@@ -70,6 +69,33 @@ std::vector<CutSheet> cut_sheets(const Analysis& analysis,
   return sheets;
 }
 
+CutSheet for_dxf(CutSheet sheet) {
+  for (SheetLabel& label : sheet.labels) {
+    const std::string& in = label.text;
+    std::string out;
+    for (std::size_t i = 0; i < in.size();) {
+      const auto c = static_cast<unsigned char>(in[i]);
+      int n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+      if (n == 0 || i + static_cast<std::size_t>(n) > in.size()) {
+        out += '?';  // not UTF-8 (labels are piece names, checked when read)
+        ++i;
+        continue;
+      }
+      if (n == 1) {
+        out += in[i++];
+        continue;
+      }
+      unsigned code = c & (0x7Fu >> n);
+      for (int k = 1; k < n; ++k)
+        code = (code << 6) | (static_cast<unsigned char>(in[i + k]) & 0x3Fu);
+      out += code <= 0xFFFF ? fmt::format("\\U+{:04X}", code) : std::string("?");
+      i += static_cast<std::size_t>(n);
+    }
+    label.text = std::move(out);
+  }
+  return sheet;
+}
+
 std::vector<TriangleMesh> piece_meshes(const Analysis& analysis) {
   std::vector<TriangleMesh> out;
   for (const Piece& p : analysis.pieces) {
@@ -99,8 +125,6 @@ Json report_json(const BuildSummary& summary) {
   j["name"] = a.name;
   j["termination"] = std::string(to_string(summary.termination));
   Json counts;
-  std::size_t user_connections = 0;
-  for (const Joint& jt : a.joints) (void)jt;
   counts["components"] = a.components.size();
   counts["pieces"] = a.pieces.size();
   counts["joints"] = a.graph_joints();
@@ -113,9 +137,17 @@ Json report_json(const BuildSummary& summary) {
     by_kind[std::string(to_string(k))] = a.joints_of(k);
   counts["cut_joints_by_kind"] = by_kind;
   counts["dimensions"] = a.dimension_count;
-  (void)user_connections;
   j["counts"] = counts;
-  j["meta_parameters"] = a.meta_parameters;
+  Json meta = Json::array();
+  for (const std::string& m : a.meta_parameters) {
+    const auto it = a.meta_drives.find(m);
+    const auto value = a.values.find(m);
+    meta.push_back(
+        {{"name", m},
+         {"value", value == a.values.end() ? 0.0 : value->second},
+         {"drives", it == a.meta_drives.end() ? std::vector<std::string>{} : it->second}});
+  }
+  j["meta_parameters"] = meta;
   Json values = Json::object();
   for (const auto& [k, v] : a.values) values[k] = std::round(v * 1e6) / 1e6 + 0.0;
   j["values"] = values;
@@ -186,43 +218,6 @@ Json report_json(const BuildSummary& summary) {
   return j;
 }
 
-CutSheet burn_test_sheet(const Material& material,
-                         const std::vector<double>& kerfs_mm,
-                         const std::vector<double>& interferences_mm) {
-  // Each cell: a comb of 3 fingers and a matching strip of 3 dents, drawn with one (Δ, δ).
-  const double t = material.thickness_mm;
-  const double w = 3 * t;  // nominal finger width
-  const double cell_w = 7 * w + 20, cell_h = 2 * (3 * t + 4) + 16;
-  CutSheet s;
-  s.name = fmt::format("burn test, {} {:g} mm", material.name, t);
-  s.width_mm = 10 + cell_w * static_cast<double>(interferences_mm.size());
-  s.height_mm = 10 + cell_h * static_cast<double>(kerfs_mm.size());
-  for (std::size_t r = 0; r < kerfs_mm.size(); ++r) {
-    for (std::size_t c = 0; c < interferences_mm.size(); ++c) {
-      const double x0 = 10 + cell_w * static_cast<double>(c),
-                   y0 = 10 + cell_h * static_cast<double>(r);
-      const DrawnWidths dw = finger_and_opening(w, kerfs_mm[r], interferences_mm[c]);
-      const double e = (dw.finger_mm - w) / 2;
-      // Finger strip: a bar 3t high with three fingers t long on top.
-      Region2d comb{rectangle(x0, y0, x0 + 7 * w, y0 + 2 * t)};
-      Region2d dents{rectangle(x0, y0 + 3 * t + 6, x0 + 7 * w, y0 + 3 * t + 6 + 3 * t)};
-      for (int k = 0; k < 3; ++k) {
-        const double f0 = x0 + w * (1 + 2 * k);
-        comb = unite(comb, {rectangle(f0 - e, y0 + 2 * t - 0.01, f0 + w + e, y0 + 3 * t)});
-        dents = subtract(dents,
-                         {rectangle(f0 + e, y0 + 3 * t + 6 - 1, f0 + w - e, y0 + 3 * t + 6 + t)});
-      }
-      for (const Polygon2d& p : comb) s.add_cut(p);
-      for (const Polygon2d& p : dents) s.add_cut(p);
-      s.labels.push_back({fmt::format("Δ {:g} δ {:g}", kerfs_mm[r], interferences_mm[c]),
-                          Vec2(x0 + 3.5 * w, y0 + 6 * t + 10),
-                          3,
-                          0});
-    }
-  }
-  return s;
-}
-
 BuildSummary build(const Design& design, const BuildOptions& options) {
   BuildSummary s;
   s.analysis = check(design, options.check);
@@ -273,7 +268,7 @@ BuildSummary build(const Design& design, const BuildOptions& options) {
             write_svg_sheet(options.output_dir / (stem + ".svg"), sheets[k], io));
     if (options.dxf)
       wrote(options.output_dir / (stem + ".dxf"),
-            write_dxf(options.output_dir / (stem + ".dxf"), sheets[k], io));
+            write_dxf(options.output_dir / (stem + ".dxf"), for_dxf(sheets[k]), io));
   }
   const std::vector<TriangleMesh> meshes = piece_meshes(s.analysis);
   if (options.stl) {

@@ -83,6 +83,25 @@ Analysis check(const Design& design, const CheckOptions& options) {
     if (flat.quantities[q].meta) a.meta_parameters.push_back(flat.quantities[q].name);
     if (flat.quantities[q].component >= 0) ++a.dimension_count;
   }
+  // What each meta-parameter drives: solve again with it changed and see which dimensions move.
+  for (std::size_t q = 0; q < flat.quantities.size(); ++q) {
+    if (!flat.quantities[q].meta) continue;
+    detail::FlatDesign moved = flat;
+    const double v = values[q];
+    moved.quantities[q].default_value = flat.quantities[q].kind == ParamKind::kCount
+                                            ? v + 1
+                                            : v + std::max(1.0, 0.05 * std::abs(v));
+    std::vector<double> again(moved.quantities.size(), 0.0);
+    detail::Expressions ex_again(moved, again);
+    Diagnostics ignored;  // a change that breaks the design drives what it broke: nothing listed
+    std::vector<std::string>& drives = a.meta_drives[flat.quantities[q].name];
+    if (!detail::solve_quantities(moved, ex_again, again, ignored)) continue;
+    for (std::size_t k = 0; k < flat.quantities.size(); ++k) {
+      if (flat.quantities[k].component < 0) continue;
+      if (std::abs(again[k] - values[k]) > 1e-9 * std::max(1.0, std::abs(values[k])))
+        drives.push_back(flat.quantities[k].name);
+    }
+  }
   clock.lap("solve");
 
   // Shapes, with their cut-outs.
@@ -205,7 +224,8 @@ Analysis check(const Design& design, const CheckOptions& options) {
                             sa, fc.a_edge, sb, fc.b_edge, fc.spec->alignment, offset, rotation),
                         fc.name,
                         fc.spec->text(),
-                        fc.spec->where});
+                        fc.spec->where,
+                        fc.spec->places_only});
   }
   if (!ok) return a;
   detail::place(a.components, resolved, options, a.diagnostics);

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <array>
 
 #include "fabkit/core/file_io.h"
@@ -15,11 +16,27 @@ namespace {
 
 constexpr std::array<std::string_view, 4> kKits = {"hacks", "rods", "flatpack", "templates"};
 
+Design load_nested(std::string_view yaml,
+                   std::string_view display_name,
+                   Diagnostics& diags,
+                   const std::filesystem::path& base_dir,
+                   const DesignFileOptions& options,
+                   int depth,
+                   std::vector<std::filesystem::path>& chain);
+
+// A file's identity for finding designs that use themselves (symlinks and ../ resolved).
+std::filesystem::path identity(const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
+  return ec ? path.lexically_normal() : p;
+}
+
 struct Reader {
   YamlReader& in;
   const std::filesystem::path& base_dir;
   const DesignFileOptions& options;
-  int depth;
+  int depth;  ///< 0 for the design the user gave; +1 per level of `uses:`
+  std::vector<std::filesystem::path>& chain;  ///< the files being read, outermost first
 
   std::optional<Expression> expr(const YAML::Node& node, std::string_view what) {
     if (!node.IsScalar()) {
@@ -28,7 +45,10 @@ struct Reader {
                in.at(node));
       return std::nullopt;
     }
-    return Expression{node.Scalar(), in.at(node)};
+    // Valid UTF-8 of a sane length, so that messages quoting it are too.
+    const auto text = in.string(node, fmt::format("{} (an expression)", what), 1000);
+    if (!text) return std::nullopt;
+    return Expression{*text, in.at(node)};
   }
 
   std::optional<Material> material(const YAML::Node& node, Material m) {
@@ -138,22 +158,43 @@ struct Reader {
         }
         if (depth >= options.max_depth) {
           in.error(codes::kLimitExceeded,
-                   fmt::format("designs used as components nest deeper than {}", options.max_depth),
+                   fmt::format("designs used as components nest deeper than {} levels here ({} "
+                               "uses {})",
+                               options.max_depth,
+                               in.file(),
+                               *file),
                    in.at(kv.second));
           continue;
         }
         const std::filesystem::path path = base_dir / *file;
+        const std::filesystem::path id = identity(path);
+        if (const auto again = std::find(chain.begin(), chain.end(), id); again != chain.end()) {
+          std::vector<std::string> names;
+          for (auto it = again; it != chain.end(); ++it) names.push_back(it->filename().string());
+          names.push_back(id.filename().string());
+          in.error(
+              codes::kInvalidValue,
+              fmt::format("component type {} ({}) would contain itself: {}; a design cannot be "
+                          "a component of itself",
+                          *type,
+                          *file,
+                          fmt::join(names, " uses ")),
+              in.at(kv.second));
+          continue;
+        }
         Diagnostics sub;
         auto text = read_input_file(path, "design file", sub);
         std::shared_ptr<Design> used = std::make_shared<Design>();
         if (text) {
-          DesignFileOptions o = options;
-          o.max_depth = options.max_depth - 1;
-          *used = load_design_text(*text, path.string(), sub, path.parent_path(), o);
+          chain.push_back(id);
+          *used =
+              load_nested(*text, path.string(), sub, path.parent_path(), options, depth + 1, chain);
+          chain.pop_back();
           used->source = path;
         }
         for (Diagnostic dg : sub) {
-          if (!dg.where.known()) dg.where = in.at(kv.second);
+          // A file that cannot be read is reported where it is named.
+          if (!dg.where.known() || dg.where.line == 0) dg.where = in.at(kv.second);
           in.diagnostics().add(dg);
         }
         if (sub.has_errors()) {
@@ -175,7 +216,9 @@ struct Reader {
         u.name = in.name(c["name"], "component name").value_or("");
         u.type = in.name(c["type"], "component type").value_or("");
         for (const auto& kv : c) {
-          const std::string key = kv.first.Scalar();
+          const auto name = in.name(kv.first, "a component's key");
+          if (!name) continue;
+          const std::string key = *name;
           if (key == "name" || key == "type") continue;
           if (key == "material") {
             u.material = in.name(kv.second, "material name").value_or("");
@@ -259,7 +302,8 @@ struct Reader {
     if (const YAML::Node cs = root["connections"]; cs && in.is_list(cs, "connections")) {
       for (const YAML::Node& c : cs) {
         if (!in.is_mapping(c, "a connection")) continue;
-        in.check_keys(c, {"connect", "alignment", "offset", "rotation", "name"}, "a connection");
+        in.check_keys(
+            c, {"connect", "alignment", "offset", "rotation", "name", "joint"}, "a connection");
         Connection con;
         con.where = in.at(c);
         if (c["name"]) con.name = in.name(c["name"], "connection name").value_or("");
@@ -294,6 +338,20 @@ struct Reader {
             good = false;
           } else {
             con.alignment = *a;
+          }
+        }
+        if (c["joint"]) {
+          const auto s = in.string(c["joint"], "joint");
+          if (s && *s == "none") {
+            con.places_only = true;
+          } else if (s) {
+            in.error(codes::kInvalidValue,
+                     fmt::format("joint: '{}' is not known; a connection's joint is found from the "
+                                 "geometry, and only 'none' (the connection only places) can be "
+                                 "written",
+                                 *s),
+                     in.at(c["joint"]));
+            good = false;
           }
         }
         for (const char* key : {"offset", "rotation"}) {
@@ -385,13 +443,13 @@ struct Reader {
   }
 };
 
-}  // namespace
-
-Design load_design_text(std::string_view yaml,
-                        std::string_view display_name,
-                        Diagnostics& diags,
-                        const std::filesystem::path& base_dir,
-                        const DesignFileOptions& options) {
+Design load_nested(std::string_view yaml,
+                   std::string_view display_name,
+                   Diagnostics& diags,
+                   const std::filesystem::path& base_dir,
+                   const DesignFileOptions& options,
+                   int depth,
+                   std::vector<std::filesystem::path>& chain) {
   Design d;
   YamlReader in{std::string(display_name), diags};
   const auto root = in.parse_mapping(yaml, "fabkit: flatpack/1, components and connections");
@@ -404,10 +462,21 @@ Design load_design_text(std::string_view yaml,
              tag->where);
     return d;
   }
-  Reader r{in, base_dir, options, 8 - options.max_depth};
-  r.depth = 0;
+  Reader r{in, base_dir, options, depth, chain};
   r.read(*root, d);
   return d;
+}
+
+}  // namespace
+
+Design load_design_text(std::string_view yaml,
+                        std::string_view display_name,
+                        Diagnostics& diags,
+                        const std::filesystem::path& base_dir,
+                        const DesignFileOptions& options) {
+  std::vector<std::filesystem::path> chain;
+  if (!options.file.empty()) chain.push_back(identity(options.file));
+  return load_nested(yaml, display_name, diags, base_dir, options, 0, chain);
 }
 
 Design load_design(const std::filesystem::path& path,
@@ -415,7 +484,8 @@ Design load_design(const std::filesystem::path& path,
                    const DesignFileOptions& options) {
   const auto text = read_input_file(path, "design file", diags);
   if (!text) return {};
-  Design d = load_design_text(*text, path.string(), diags, path.parent_path(), options);
+  std::vector<std::filesystem::path> chain{identity(path)};
+  Design d = load_nested(*text, path.string(), diags, path.parent_path(), options, 0, chain);
   d.source = path;
   return d;
 }
@@ -511,6 +581,7 @@ std::string to_yaml(const Design& d) {
         for (const Expression& e : v) out << (e.text.empty() ? std::string("0") : e.text);
         out << YAML::EndSeq;
       }
+      if (c.places_only) out << YAML::Key << "joint" << YAML::Value << "none";
       out << YAML::EndMap;
     }
     out << YAML::EndSeq;

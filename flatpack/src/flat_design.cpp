@@ -118,6 +118,26 @@ struct Flattener {
     }
     stack.push_back(&d);
     bool ok = true;
+    // `thickness` in expressions is the board thickness of this design's material (a
+    // parameter of that name takes precedence), so offsets can be written as "height +
+    // thickness / 2" and stay right when the design is cut from another material.
+    const bool own_thickness =
+        std::any_of(d.parameters.begin(), d.parameters.end(), [](const DesignParameter& p) {
+          return p.name == "thickness";
+        });
+    if (!own_thickness) {
+      FlatQuantity t{scope + "thickness",
+                     ParamKind::kLength,
+                     inherited.thickness_mm,
+                     0,
+                     1e300,
+                     true,
+                     -1,
+                     false,
+                     true,
+                     {}};
+      add_quantity(std::move(t));
+    }
     for (const DesignParameter& p : d.parameters) {
       add_quantity({scope + p.name,
                     p.kind,
@@ -127,6 +147,7 @@ struct Flattener {
                     false,
                     -1,
                     p.meta && scope.empty(),
+                    false,
                     p.where});
     }
     for (const ComponentUse& use : d.components) {
@@ -153,6 +174,27 @@ struct Flattener {
       if (const auto sub = d.library.find(use.type); sub != d.library.end()) {
         ok = expand(*sub->second, full + ".", material) && ok;
         for (const auto& [param, expr] : use.params) {
+          // A sub-design's parameters are set by name (a dimension can be set as "seat.l").
+          const Design& used = *sub->second;
+          const bool known = param.find('.') != std::string::npos || param == "thickness" ||
+                             std::any_of(used.parameters.begin(),
+                                         used.parameters.end(),
+                                         [&](const DesignParameter& p) { return p.name == param; });
+          if (!known) {
+            std::vector<std::string> names;
+            for (const DesignParameter& p : used.parameters) names.push_back(p.name);
+            diags.error(codes::kUnknownName,
+                        fmt::format("{} ({}) has no parameter '{}'{}; its parameters are {}",
+                                    full,
+                                    use.type,
+                                    param,
+                                    did_you_mean(param, names),
+                                    names.empty() ? std::string("none")
+                                                  : fmt::format("{}", fmt::join(names, ", "))),
+                        expr.where);
+            ok = false;
+            continue;
+          }
           flat.constraints.push_back({Expression{use.name + "." + param, expr.where},
                                       expr,
                                       scope,
@@ -204,6 +246,7 @@ struct Flattener {
                                          p.max,
                                          p.exclusive_min,
                                          index,
+                                         false,
                                          false,
                                          use.where});
       }
@@ -394,6 +437,18 @@ bool solve_quantities(const FlatDesign& flat,
                    std::back_inserter(r.used));
     if (const auto it = flat.quantity_index.find(c.scope + c.lhs.text);
         it != flat.quantity_index.end()) {
+      if (flat.quantities[static_cast<std::size_t>(it->second)].material_thickness) {
+        diags.error(
+            codes::kInvalidValue,
+            fmt::format("'{}': {} is the board thickness of the material ({:g} mm) and "
+                        "cannot be constrained; set it with material: {{thickness: ...}}",
+                        c.text,
+                        flat.quantities[static_cast<std::size_t>(it->second)].name,
+                        *flat.quantities[static_cast<std::size_t>(it->second)].default_value),
+            c.where);
+        ok = false;
+        continue;
+      }
       lhs_named.insert(it->second);
     }
     rows.push_back(std::move(r));

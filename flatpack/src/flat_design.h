@@ -23,6 +23,8 @@ struct FlatQuantity {
   bool exclusive_min = false;
   int component = -1;  ///< the component it is a dimension of; -1 for a design parameter
   bool meta = false;
+  /// The built-in `thickness` of a design's scope: its material's board thickness, read-only.
+  bool material_thickness = false;
   SourceLocation where;
 };
 

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <functional>
+#include <map>
 #include <set>
 
 #include "fabkit/flatpack/diagnostic_codes.h"
@@ -548,6 +550,11 @@ void detect_and_cut(Analysis& analysis,
       int n = std::max(1, static_cast<int>(std::lround(span / target)));
       if (n % 2 == 0) n = n + 1 <= span / min_finger ? n + 1 : n - 1;
       n = std::max(n, 1);
+      // Two boards meeting edge to edge interlock only with a finger from each: a short corner
+      // (a lid's rim) gets the narrowest fingers that fit rather than none.
+      if (jt.kind == JointKind::kFingerFinger && n < 2) {
+        n = span >= 3 * min_finger ? 3 : span >= 2 * min_finger ? 2 : 1;
+      }
       const double w = span / n;
       unit_width = w;
       for (int q = 0; q < n; ++q) {
@@ -607,15 +614,21 @@ void detect_and_cut(Analysis& analysis,
     const double wide_b = B.material.kerf_mm + delta / 4;
     const double far_a = sign_a * (tb / 2), near_a = -sign_a * (tb / 2 + 1.0);
     ca.remove_band.push_back(band(la, 0, len, std::min(far_a, near_a), std::max(far_a, near_a)));
+    // A finger reaches a little into the cut-back body so the union joins them even where
+    // rounding leaves the two edges a few nanometres apart (the overlap is material anyway).
+    constexpr double kRoot = 0.05;
+    auto finger_band = [&](const Line2& l, double f0, double f1, double sign, double t) {
+      return band(l, f0, f1, sign > 0 ? -t / 2 : -t / 2 - kRoot, sign > 0 ? t / 2 + kRoot : t / 2);
+    };
     for (const auto& [f0, f1] : fingers_a) {
-      ca.add.push_back(band(la, f0 - wide_a, f1 + wide_a, -tb / 2, tb / 2));
+      ca.add.push_back(finger_band(la, f0 - wide_a, f1 + wide_a, sign_a, tb));
     }
     if (jt.kind == JointKind::kFingerFinger) {
       depth_check(B, lb, sign_b, ta);
       const double far_b = sign_b * (ta / 2), near_b = -sign_b * (ta / 2 + 1.0);
       cb.remove_band.push_back(band(lb, 0, len, std::min(far_b, near_b), std::max(far_b, near_b)));
       for (const auto& [f0, f1] : fingers_b) {
-        cb.add.push_back(band(lb, f0 - wide_b, f1 + wide_b, -ta / 2, ta / 2));
+        cb.add.push_back(finger_band(lb, f0 - wide_b, f1 + wide_b, sign_b, ta));
       }
     } else {
       // Piece B (face): a hole under each of A's fingers, narrower by the press fit.
@@ -640,12 +653,22 @@ void detect_and_cut(Analysis& analysis,
       std::sort(r.begin(), r.end(), [](const Polygon2d& a, const Polygon2d& b) {
         return a.area() > b.area();
       });
+      std::vector<std::string> dropped;
+      for (std::size_t q = 1; q < r.size(); ++q) {
+        const Box2d box = bounds(r[q].outer);
+        dropped.push_back(fmt::format("{:.1f} mm² at ({:.1f}, {:.1f}) mm",
+                                      r[q].area(),
+                                      (box.min.x() + box.max.x()) / 2,
+                                      (box.min.y() + box.max.y()) / 2));
+      }
       analysis.diagnostics.warning(
           codes::kJointFit,
-          fmt::format("{}: its joints cut it into {} parts; only the largest ({:.0f} mm²) is kept",
+          fmt::format("{}: its joints cut it into {} parts; only the largest ({:.0f} mm²) is "
+                      "kept, dropping {} (in the piece's frame)",
                       piece.name,
                       r.size(),
-                      r[0].area()));
+                      r[0].area(),
+                      fmt::join(dropped, ", ")));
       r.resize(1);
     }
     piece.cut = r;
@@ -687,7 +710,15 @@ void detect_and_cut(Analysis& analysis,
     const bool made = std::any_of(analysis.joints.begin(),
                                   analysis.joints.end(),
                                   [&](const Joint& j) { return j.connection == k; });
-    if (!made) {
+    if (made && rc.places_only) {
+      analysis.diagnostics.warning(
+          codes::kConnectionMakesNoJoint,
+          fmt::format("{} ({}) says joint: none, but its pieces meet, so a joint is cut there; "
+                      "move them apart or drop 'joint: none'",
+                      rc.name,
+                      rc.text),
+          rc.where);
+    } else if (!made && !rc.places_only) {
       analysis.diagnostics.warning(
           codes::kConnectionMakesNoJoint,
           fmt::format(
@@ -764,12 +795,35 @@ Freedom freedom_of(const Joint& j, bool for_a, const std::vector<Piece>& pieces)
   return f;
 }
 
+// A world direction for a maker: "+z", "−y", or the rounded vector.
+std::string direction_text(const Vec3& v) {
+  static const char* const kAxes[] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(std::abs(v[k]) - 1) < 1e-6) return std::string(v[k] > 0 ? "+" : "−") + kAxes[k];
+  }
+  return fmt::format("({:.2f}, {:.2f}, {:.2f})", v.x() + 0.0, v.y() + 0.0, v.z() + 0.0);
+}
+
+std::string freedom_text(const Freedom& f) {
+  switch (f.kind) {
+    case Freedom::kRay:
+      return "along " + direction_text(f.g1);
+    case Freedom::kLine:
+      return "along " + direction_text(f.g1) + " or back";
+    case Freedom::kCone:
+      return "between " + direction_text(f.g1) + " and " + direction_text(f.g2);
+  }
+  return "";
+}
+
 struct Planner {
   const std::vector<Joint>& joints;
   const std::vector<Piece>& pieces;
+  /// The pieces of each sub-design (hierarchical composition), smallest first: tried as units.
+  const std::vector<std::vector<int>>& sub_designs;
+  int& group_count;
   std::vector<AssemblyStep> removal;  // disassembly order
   std::vector<int> stuck;
-  int groups = 0;
 
   // Can `unit` leave `rest ∪ unit` along some direction? Returns it.
   std::optional<Vec3> free_direction(const std::vector<int>& unit, const std::set<int>& present) {
@@ -799,6 +853,23 @@ struct Planner {
     return std::nullopt;
   }
 
+  // Takes `unit` out as a whole if it can leave, then takes it apart in its own order.
+  bool take_unit(const std::vector<int>& unit, std::set<int>& present) {
+    const auto d = free_direction(unit, present);
+    if (!d) return false;
+    Planner inner{joints, pieces, sub_designs, group_count, {}, {}};
+    inner.plan(std::set<int>(unit.begin(), unit.end()));
+    const int group = ++group_count;
+    for (AssemblyStep s : inner.removal) {
+      if (s.group == 0) s.group = group;
+      removal.push_back(s);
+    }
+    removal[removal.size() - inner.removal.size()].direction = *d;
+    for (int q : unit) present.erase(q);
+    stuck.insert(stuck.end(), inner.stuck.begin(), inner.stuck.end());
+    return true;
+  }
+
   void plan(std::set<int> present) {
     while (present.size() > 1) {
       bool done = false;
@@ -810,29 +881,21 @@ struct Planner {
           done = true;
         }
       }
+      // Then a sub-design as a whole (a design used as a component is built first, as its
+      // maker would: the bunk bed's ladder goes in as one), smallest first.
+      for (const std::vector<int>& unit : sub_designs) {
+        if (done) break;
+        if (unit.size() < 2 || unit.size() >= present.size()) continue;
+        if (!std::all_of(unit.begin(), unit.end(), [&](int p) { return present.count(p) > 0; }))
+          continue;
+        done = take_unit(unit, present);
+      }
       // Then connected sub-assemblies of two or three pieces, put together first.
       for (int size = 2; size <= 3 && !done; ++size) {
         const std::vector<int> list(present.begin(), present.end());
         std::vector<int> pick(static_cast<std::size_t>(size));
         std::function<bool(int, int)> choose = [&](int from, int depth) -> bool {
-          if (depth == size) {
-            if (auto d = free_direction(pick, present)) {
-              std::set<int> unit(pick.begin(), pick.end());
-              Planner inner{joints, pieces, {}, {}, groups};
-              inner.plan(unit);
-              // The unit as a whole leaves first, then comes apart in its own order.
-              const int group = ++groups;
-              for (AssemblyStep s : inner.removal) {
-                s.group = group;
-                removal.push_back(s);
-              }
-              removal[removal.size() - inner.removal.size()].direction = *d;
-              for (int q : pick) present.erase(q);
-              stuck.insert(stuck.end(), inner.stuck.begin(), inner.stuck.end());
-              return true;
-            }
-            return false;
-          }
+          if (depth == size) return take_unit(pick, present);
           for (int k = from; k < static_cast<int>(list.size()); ++k) {
             pick[static_cast<std::size_t>(depth)] = list[static_cast<std::size_t>(k)];
             if (choose(k + 1, depth + 1)) return true;
@@ -850,13 +913,41 @@ struct Planner {
   }
 };
 
+// The pieces of each sub-design instance ("desk." holds every piece whose components all
+// have names starting so), smallest first; nested instances give nested units.
+std::vector<std::vector<int>> sub_design_units(const Analysis& analysis) {
+  std::map<std::string, std::vector<int>> by_scope;
+  for (int p = 0; p < static_cast<int>(analysis.pieces.size()); ++p) {
+    const Piece& piece = analysis.pieces[static_cast<std::size_t>(p)];
+    const std::string& first =
+        analysis.components[static_cast<std::size_t>(piece.components.front())].name;
+    for (std::size_t dot = first.find('.'); dot != std::string::npos;
+         dot = first.find('.', dot + 1)) {
+      const std::string scope = first.substr(0, dot + 1);
+      const bool all_inside =
+          std::all_of(piece.components.begin(), piece.components.end(), [&](int c) {
+            return analysis.components[static_cast<std::size_t>(c)].name.rfind(scope, 0) == 0;
+          });
+      if (all_inside) by_scope[scope].push_back(p);
+    }
+  }
+  std::vector<std::vector<int>> units;
+  for (auto& [scope, pieces] : by_scope) units.push_back(std::move(pieces));
+  std::stable_sort(
+      units.begin(), units.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
+  return units;
+}
+
 }  // namespace
 
 void plan_assembly(Analysis& analysis) {
-  Planner planner{analysis.joints, analysis.pieces, {}, {}, 0};
+  const std::vector<std::vector<int>> units = sub_design_units(analysis);
+  int group_count = 0;
+  Planner planner{analysis.joints, analysis.pieces, units, group_count, {}, {}};
   std::set<int> all;
   for (int i = 0; i < static_cast<int>(analysis.pieces.size()); ++i) all.insert(i);
   planner.plan(all);
+  std::sort(planner.stuck.begin(), planner.stuck.end());
   analysis.not_insertable = planner.stuck;
   if (!planner.stuck.empty()) {
     std::vector<std::string> names;
@@ -864,9 +955,32 @@ void plan_assembly(Analysis& analysis) {
     analysis.diagnostics.error(
         codes::kNotAssemblable,
         fmt::format("not assemblable: {} lock each other: none of them (nor any two or three "
-                    "together) slides out along a direction all its joints allow; remove one "
-                    "of the connections between them or change a joint",
+                    "together, nor a sub-design as a whole) slides out along a direction all its "
+                    "joints allow; remove one of the connections between them or change a joint",
                     fmt::join(names, ", ")));
+    // Why, piece by piece: the ways out its joints with the others leave it (a few of them).
+    const std::set<int> stuck(planner.stuck.begin(), planner.stuck.end());
+    int explained = 0;
+    for (int p : planner.stuck) {
+      if (explained++ == 4) break;
+      std::vector<std::string> ways;
+      for (const Joint& j : analysis.joints) {
+        const bool is_a = j.piece_a == p;
+        if (!is_a && j.piece_b != p) continue;
+        const int other = is_a ? j.piece_b : j.piece_a;
+        if (!stuck.count(other) || ways.size() == 3) continue;
+        ways.push_back(fmt::format("joint {} ({} with {}) lets it out only {}",
+                                   j.id,
+                                   to_string(j.kind),
+                                   analysis.pieces[static_cast<std::size_t>(other)].name,
+                                   freedom_text(freedom_of(j, is_a, analysis.pieces))));
+      }
+      if (ways.empty()) continue;
+      analysis.diagnostics.note(
+          codes::kNotAssemblable,
+          fmt::format(
+              "{}: {}", analysis.pieces[static_cast<std::size_t>(p)].name, fmt::join(ways, "; ")));
+    }
     return;
   }
   // Assembly is disassembly reversed; a piece goes in against its way out.

@@ -26,6 +26,7 @@ struct ResolvedConnection {
   Mat4 relative = Mat4::Identity();  ///< A in B's frame
   std::string name, text;
   SourceLocation where;
+  bool places_only = false;  ///< `joint: none`
 };
 
 /// Algorithm 1 over the connectivity graph; cycle residuals become diagnostics.

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <set>
+
+#include "fabkit/flatpack/build.h"
 #include "fabkit/flatpack/diagnostic_codes.h"
 #include "test_support.h"
 
@@ -73,6 +76,80 @@ TEST(Constraints, ANonWholeCountIsRefused) {
       std::string(kHead) + "components:\n  - {name: P, type: RegularPolygon, n: 4.5, s: 10}\n");
   EXPECT_NE(a.diagnostics.format().find("P.n = 4.5 must be a whole number"), std::string::npos)
       << a.diagnostics.format();
+}
+
+// Paper §5.1: the simple table of Fig. 11(g) "has 4 structure-preserved design parameters,
+// including the length, width, height of the table, and the width of table leg. However, an
+// unconstrained table can have up to 22 parameters".
+TEST(MetaParameters, SimpleTableIsDrivenByFourOfItsTwentyTwoNumbers) {
+  const Design d = test::example("simple_table");
+  const Analysis a = check(d);
+  ASSERT_FALSE(a.diagnostics.has_errors()) << a.diagnostics.format();
+  EXPECT_EQ(a.meta_parameters,
+            (std::vector<std::string>{"length", "width", "height", "leg_width"}));
+  // Five rectangles (10 dimensions) and four connections (3 offsets each): 22 numbers.
+  EXPECT_EQ(a.components.size(), 5u);
+  EXPECT_EQ(a.dimension_count, 10);
+  EXPECT_EQ(a.dimension_count + 3 * static_cast<int>(d.connections.size()), 22);
+  using Set = std::set<std::string>;
+  auto drives = [&](const std::string& m) {
+    const auto& v = a.meta_drives.at(m);
+    return Set(v.begin(), v.end());
+  };
+  EXPECT_EQ(drives("length"), Set{"top.l"});
+  EXPECT_EQ(drives("width"), Set{"top.w"});
+  EXPECT_EQ(drives("height"), (Set{"leg_fl.w", "leg_bl.w", "leg_fr.w", "leg_br.w"}));
+  EXPECT_EQ(drives("leg_width"), (Set{"leg_fl.l", "leg_bl.l", "leg_fr.l", "leg_br.l"}));
+  // Together they drive every dimension.
+  Set all;
+  for (const auto& [m, dims] : a.meta_drives) all.insert(dims.begin(), dims.end());
+  EXPECT_EQ(static_cast<int>(all.size()), a.dimension_count);
+  // report.json lists them with what they drive.
+  BuildSummary s;
+  s.analysis = a;
+  const Json report = report_json(s);
+  ASSERT_EQ(report["meta_parameters"].size(), 4u);
+  EXPECT_EQ(report["meta_parameters"][2]["name"], "height");
+  EXPECT_EQ(report["meta_parameters"][2]["value"], 150);
+  EXPECT_EQ(report["meta_parameters"][2]["drives"].size(), 4u);
+}
+
+Vec2 size_of(const Analysis& a, const std::string& piece) {
+  for (const Piece& p : a.pieces) {
+    if (p.name == piece) return bounds(Region2d{p.outline}).size();
+  }
+  ADD_FAILURE() << "no piece " << piece;
+  return Vec2::Zero();
+}
+
+TEST(MetaParameters, ChangingOneResizesEveryPieceItDrivesAndNoOther) {
+  const Design d = test::example("simple_table");
+  const Analysis before = check(d);
+  const std::vector<std::string> pieces{"top", "leg_fl", "leg_bl", "leg_fr", "leg_br"};
+  const std::map<std::string, std::set<std::string>> resized{
+      {"length", {"top"}},
+      {"width", {"top"}},
+      {"height", {"leg_fl", "leg_bl", "leg_fr", "leg_br"}},
+      {"leg_width", {"leg_fl", "leg_bl", "leg_fr", "leg_br"}}};
+  for (const auto& [meta, expected] : resized) {
+    Design changed = d;
+    for (DesignParameter& p : changed.parameters) {
+      if (p.name == meta) p.value = *p.value + 20;
+    }
+    const Analysis after = check(changed);
+    ASSERT_FALSE(after.diagnostics.has_errors()) << after.diagnostics.format();
+    for (const std::string& p : pieces) {
+      const Vec2 grown = size_of(after, p) - size_of(before, p);
+      if (expected.count(p)) {
+        EXPECT_NEAR(grown.x() + grown.y(), 20, 1e-9) << meta << " → " << p;
+      } else {
+        EXPECT_NEAR(grown.norm(), 0, 1e-9) << meta << " should not re-size " << p;
+      }
+    }
+    // The structure stays: same joints, the legs still under the top's corners.
+    EXPECT_EQ(after.joints.size(), before.joints.size()) << meta;
+    EXPECT_EQ(after.diagnostics.size(), 0u) << after.diagnostics.format();
+  }
 }
 
 }  // namespace

@@ -23,6 +23,36 @@ TEST(DesignFile, RoundTripGivesTheSameDesign) {
   }
 }
 
+// The newer keys survive the round trip too: joint: none, expressions with the built-in
+// thickness, and uses: of other files (read back next to the bundled examples).
+TEST(DesignFile, RoundTripKeepsPlacesOnlyConnectionsAndUses) {
+  for (const char* name : {"box_with_lid", "bunk_bed", "picnic_table_locked"}) {
+    SCOPED_TRACE(name);
+    const Design d = test::example(name);
+    const std::string yaml = to_yaml(d);
+    Diagnostics diags;
+    const Design again = load_design_text(
+        yaml, "round-trip.yaml", diags, std::string(FABKIT_SOURCE_DIR) + "/examples/flatpack");
+    ASSERT_FALSE(diags.has_errors()) << diags.format() << yaml;
+    EXPECT_EQ(to_yaml(again), yaml);
+    const Analysis a = check(d), b = check(again);
+    ASSERT_EQ(a.pieces.size(), b.pieces.size());
+    EXPECT_EQ(a.joints.size(), b.joints.size());
+    EXPECT_EQ(a.not_insertable, b.not_insertable);
+    for (std::size_t i = 0; i < a.pieces.size(); ++i) {
+      EXPECT_TRUE(a.pieces[i].frame.isApprox(b.pieces[i].frame, 1e-12));
+      EXPECT_NEAR(area(a.pieces[i].cut), area(b.pieces[i].cut), 1e-9);
+    }
+  }
+  const std::string lid = to_yaml(test::example("box_with_lid"));
+  EXPECT_NE(lid.find("joint: none"), std::string::npos) << lid;
+  Diagnostics d;
+  load_design_text(
+      "fabkit: flatpack/1\nconnections:\n  - {connect: [A.b, B.t], joint: glue}\n", "bad.yaml", d);
+  EXPECT_NE(d.format().find("bad.yaml:3:34: error: joint: 'glue' is not known"), std::string::npos)
+      << d.format();
+}
+
 TEST(DesignFile, ErrorsNameFileLineAndWhatWasExpected) {
   Diagnostics d;
   load_design_text(

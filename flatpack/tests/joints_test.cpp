@@ -101,6 +101,51 @@ TEST(Joints, CrossingFacesAreSlotSlotWithHalfLengthSlots) {
   EXPECT_EQ(j.slot_open_b, -j.slot_open_a);
 }
 
+// Item 6: a slot fabkit draws comes out of the cutter δ narrower than the board it takes, so the
+// board presses in. Measured across the slot in the cut outline of a crossing pair, for several
+// thicknesses, kerfs and interferences.
+TEST(Joints, CutSlotIsTheBoardThicknessLessTheInterference) {
+  for (double t : {3.0, 6.0}) {
+    for (double kerf : {0.05, 0.2}) {
+      for (double fit : {0.0, 0.1}) {
+        SCOPED_TRACE(testing::Message() << "t " << t << " Δ " << kerf << " δ " << fit);
+        const Analysis c = check_yaml(
+            "fabkit: flatpack/1\nmaterial: {thickness: " + std::to_string(t) +
+            ", kerf: " + std::to_string(kerf) + ", interference: " + std::to_string(fit) +
+            "}\ncomponents:\n  - {name: A, type: Rectangle, l: 60, w: 40}\n"
+            "  - {name: B, type: Rectangle, l: 40, w: 40}\n"
+            "connections:\n  - {connect: [B.b, A.r], offset: [20, 30, -20], rotation: [90, 0, "
+            "0]}\n");
+        ASSERT_EQ(c.joints.size(), 1u) << c.diagnostics.format();
+        const Joint& j = c.joints[0];
+        ASSERT_EQ(j.kind, JointKind::kSlotSlot);
+        for (int side = 0; side < 2; ++side) {
+          const Piece& p = c.pieces[static_cast<std::size_t>(side == 0 ? j.piece_a : j.piece_b)];
+          const int open = side == 0 ? j.slot_open_a : j.slot_open_b;
+          ASSERT_EQ(std::abs(open), 1);
+          // A point a quarter of the joint in from the slot's open end, in the piece's frame,
+          // and the direction across the slot.
+          const Vec3 along = (j.end - j.start).normalized();
+          const Vec3 at = open > 0 ? Vec3(j.start + 0.25 * j.length_mm * along)
+                                   : Vec3(j.end - 0.25 * j.length_mm * along);
+          const Mat4 inv = rigid_inverse(p.frame);
+          const Vec3 at_local = inv.topLeftCorner<3, 3>() * at + inv.topRightCorner<3, 1>();
+          const Vec3 u = inv.topLeftCorner<3, 3>() * along;
+          const Vec2 across(-u.y(), u.x());
+          const Vec2 o = Vec2(at_local.x(), at_local.y()) - 20 * across;
+          const auto stretches = classify_line(p.cut[0], o, across);
+          ASSERT_EQ(stretches.size(), 2u);
+          const double slot = stretches[1].s0 - stretches[0].s1;
+          EXPECT_NEAR(slot, t - 2 * kerf - fit, 1e-6);                // drawn: w_m − 2Δ − δ
+          EXPECT_NEAR(cut_opening_width(slot, kerf), t - fit, 1e-6);  // cut: the board − δ
+          EXPECT_LT(stretches[0].s1, 20);                             // the point is in it
+          EXPECT_GT(stretches[1].s0, 20);
+        }
+      }
+    }
+  }
+}
+
 TEST(Joints, CoplanarTouchingComponentsMerge) {
   const Analysis a = check_yaml(
       "fabkit: flatpack/1\ncomponents:\n  - {name: A, type: Rectangle, l: 60, w: 40}\n"

@@ -59,13 +59,12 @@ std::vector<CutSheet> cut_sheets(const Analysis& analysis,
 /// closed shell per piece.
 std::vector<TriangleMesh> piece_meshes(const Analysis& analysis);
 
+/// The sheet as the DXF writer should get it: AutoCAD 2000 DXF text is not UTF-8, so every
+/// non-ASCII character of a label ("→", "Δ") is written as the DXF escape \U+XXXX, which CAD
+/// programs show as that character (the SVG keeps UTF-8).
+CutSheet for_dxf(CutSheet sheet);
+
 /// report.json: pieces, joints by kind, automatic joints, warnings, sheet usage, timings.
 Json report_json(const BuildSummary& summary);
-
-/// A burn-test sheet (paper A.1: users find their own Δ and δ): for each kerf × interference
-/// pair, a labelled pair of a finger strip and a matching dent strip.
-CutSheet burn_test_sheet(const Material& material,
-                         const std::vector<double>& kerfs_mm,
-                         const std::vector<double>& interferences_mm);
 
 }  // namespace fabkit::flatpack

@@ -5,6 +5,7 @@
 /// front ends start from; it never prints and never writes files.
 
 #include <chrono>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,6 +35,9 @@ struct Analysis {
   std::string name;
   std::map<std::string, double> values;  ///< every quantity, solved ("l1", "A.w", ...)
   std::vector<std::string> meta_parameters;
+  /// Each meta-parameter → the component dimensions it drives ("top.l"), found by solving
+  /// again with that parameter changed: what a maker re-sizes by turning that one knob.
+  std::map<std::string, std::vector<std::string>> meta_drives;
   int dimension_count = 0;  ///< component dimensions the constraints determine
   std::vector<PlacedComponent> components;
   std::vector<Piece> pieces;

@@ -78,6 +78,9 @@ struct Connection {
   Alignment alignment = Alignment::kFrontFront;
   std::array<Expression, 3> offset;
   std::array<Expression, 3> rotation;
+  /// `joint: none`: the connection only places A (a lid resting on a box); no joint is expected
+  /// and none is warned about when the pieces do not meet.
+  bool places_only = false;
   SourceLocation where;
   std::string text() const;  ///< "A.t → B.b"
 };

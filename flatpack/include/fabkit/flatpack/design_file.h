@@ -27,6 +27,8 @@ namespace fabkit::flatpack {
 struct DesignFileOptions {
   bool allow_uses = true;  ///< false: `uses:` (reading other files) is refused (servers)
   int max_depth = 8;       ///< nesting of designs used as components
+  /// The file the text was read from, if any: a design that uses this file is refused at once.
+  std::filesystem::path file;
 };
 
 /// Reads a design file; `diags` gets every problem with file:line:col. The design is usable
