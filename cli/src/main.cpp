@@ -96,6 +96,16 @@ int main(int argc, char** argv) {
       app.add_subcommand("parts", "List the hacks parts library, or show one part");
   parts_cmd->add_option("name", parts.name, "part name");
 
+  TemplatesSettings templates_settings;
+  CLI::App* templates_cmd =
+      app.add_subcommand("templates", "Browse the template database: list, or show DESIGN[/PATH]");
+  templates_cmd->require_subcommand(1);
+  CLI::App* templates_list = templates_cmd->add_subcommand("list", "List the source designs");
+  CLI::App* templates_show =
+      templates_cmd->add_subcommand("show", "Show one template: tree, items, controls, joints");
+  templates_show->add_option("name", templates_settings.name, "design or design/path/to/node")
+      ->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -107,6 +117,10 @@ int main(int argc, char** argv) {
   if (*solve_cmd) return run_solve(solve);
   if (*demo_cmd) return run_demo(demo);
   if (*parts_cmd) return run_parts(parts);
+  if (*templates_cmd) {
+    templates_settings.action = *templates_list ? "list" : "show";
+    return run_templates(templates_settings);
+  }
   if (*run_cmd) {
     for (const std::string& extra : run_cmd->remaining()) script_args.push_back(extra);
     return run_python("run", script, script_args);

@@ -652,23 +652,24 @@ std::optional<Template> make_template(const SourceDesign& design,
   t.category = design.category;
   std::vector<std::vector<int>> element_parts;
   std::vector<std::optional<Pattern>> element_patterns;
-  if (options.find_patterns) {
+  auto find_patterns_of = [&](PartRole role) {
+    if (!options.find_patterns) return;
     std::map<std::string, std::vector<int>> identical;
     for (int i = 0; i < n; ++i) {
       const DesignPart& p = parts[i];
+      if (p.role != role) continue;
       const std::string where =
           p.role == PartRole::kConnecting ? fmt::format("joint{}", cluster[i]) : "group:" + p.group;
-      identical[fmt::format("{}|{}|{:.2f}|{:.2f}|{:.2f}|{}",
+      identical[fmt::format("{}|{}|{:.2f}|{:.2f}|{:.2f}",
                             where,
                             p.item,
                             p.box.size.x(),
                             p.box.size.y(),
-                            p.box.size.z(),
-                            static_cast<int>(p.role))]
+                            p.box.size.z())]
           .push_back(i);
     }
     for (auto& [key, ids] : identical) {
-      const bool connecting = parts[ids.front()].role == PartRole::kConnecting;
+      const bool connecting = role == PartRole::kConnecting;
       const int min_count =
           connecting ? options.min_connecting_pattern : options.min_principal_pattern;
       if (static_cast<int>(ids.size()) < min_count) continue;
@@ -680,9 +681,6 @@ std::optional<Template> make_template(const SourceDesign& design,
       std::set<int> used;
       for (const PatternCandidate& c : cands) {
         if (static_cast<int>(c.parts.size()) < min_count) continue;
-        if (c.pattern.dims == 2 && !connecting &&
-            std::min(c.pattern.count[0], c.pattern.count[1]) < 2)
-          continue;
         if (c.pattern.dims == 2 && !connecting &&
             std::max(c.pattern.count[0], c.pattern.count[1]) < options.min_principal_pattern) {
           continue;  // a 2 x 2 grid (four legs) is four elements, not a pattern
@@ -698,13 +696,48 @@ std::optional<Template> make_template(const SourceDesign& design,
         element_patterns.push_back(c.pattern);
       }
     }
+  };
+  auto single_elements_of = [&](PartRole role) {
+    for (int i = 0; i < n; ++i) {
+      if (element_of[i] >= 0 || parts[i].role != role) continue;
+      element_of[i] = static_cast<int>(element_parts.size());
+      element_parts.push_back({i});
+      element_patterns.push_back(std::nullopt);
+    }
+  };
+  find_patterns_of(PartRole::kPrincipal);
+  single_elements_of(PartRole::kPrincipal);
+  // Joints are known by the principal elements they join (a pattern of slats is one).
+  for (auto& ps : cluster_principal) {
+    std::set<int> es;
+    for (int p : ps) es.insert(element_of[p]);
+    ps = es;
   }
-  for (int i = 0; i < n; ++i) {
-    if (element_of[i] >= 0) continue;
-    element_of[i] = static_cast<int>(element_parts.size());
-    element_parts.push_back({i});
-    element_patterns.push_back(std::nullopt);
+  // One connection per set of joined principal elements: the five screws holding five slats to a
+  // rail are one joint (and one pattern), not five.
+  {
+    std::map<std::set<int>, int> by_principal;
+    std::vector<int> renumber(cluster_count, -1);
+    std::vector<std::set<int>> merged;
+    for (int c = 0; c < cluster_count; ++c) {
+      auto [it, inserted] =
+          by_principal.emplace(cluster_principal[c], static_cast<int>(merged.size()));
+      if (inserted || cluster_principal[c].empty()) {
+        if (!inserted) it->second = static_cast<int>(merged.size());
+        renumber[c] = static_cast<int>(merged.size());
+        merged.push_back(cluster_principal[c]);
+      } else {
+        renumber[c] = it->second;
+      }
+    }
+    for (int& c : cluster) {
+      if (c >= 0) c = renumber[c];
+    }
+    cluster_principal = merged;
+    cluster_count = static_cast<int>(merged.size());
   }
+  find_patterns_of(PartRole::kConnecting);
+  single_elements_of(PartRole::kConnecting);
   // Order elements by their first part, so element order follows the file.
   std::vector<int> order(element_parts.size());
   std::iota(order.begin(), order.end(), 0);
@@ -715,6 +748,8 @@ std::optional<Template> make_template(const SourceDesign& design,
 
   // 4. Elements and their parameters.
   const int ne = static_cast<int>(order.size());
+  std::vector<int> new_of_old(ne);
+  for (int e = 0; e < ne; ++e) new_of_old[order[e]] = e;
   t.elements.resize(ne);
   t.q.resize(ne * kParamsPerElement);
   std::vector<int> element_cluster(ne, -1);
@@ -809,8 +844,9 @@ std::optional<Template> make_template(const SourceDesign& design,
   std::vector<int> cluster_connection(cluster_count, -1);
   for (int c = 0; c < cluster_count; ++c) {
     Connection conn;
+    // cluster_principal holds element indices from before the reordering.
     std::set<int> principal_elements;
-    for (int p : cluster_principal[c]) principal_elements.insert(element_of[p]);
+    for (int e : cluster_principal[c]) principal_elements.insert(new_of_old[e]);
     for (int e : principal_elements) conn.principal.push_back(ElementId(e));
     NodeId lca;
     for (ElementId e : conn.principal) {
@@ -931,8 +967,8 @@ std::optional<Template> make_template(const SourceDesign& design,
   for (std::size_t c = 0; c < t.connections.size(); ++c) {
     std::vector<Relation> hard, soft;
     connection_relations(t, t.connections[c], hard, soft, options);
-    const NodeId cn = t.element(t.connections[c].connecting.front()).node;
-    const NodeId at = t.node(cn).parent;  // the connection node
+    // Stored with the connection, at the lowest common ancestor of its principal elements.
+    const NodeId at = t.connections[c].node;
     for (Relation& r : hard) {
       r.connection = ConnectionId(static_cast<int>(c));
       t.connections[c].relations.push_back(store_relation(t, std::move(r), at));
