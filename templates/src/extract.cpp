@@ -179,18 +179,32 @@ std::vector<Relation> principal_relations(const Template& t,
         if (ia.articulation != ib.articulation) return ia.articulation < ib.articulation;
         return static_cast<int>(a.side) < static_cast<int>(b.side);
       });
+      // Each member is tied to the earlier member closest to it in the hierarchy (deepest
+      // common ancestor; the nearest one on ties), so every subtree keeps a connected chain of
+      // its own members: sub-templates stay self-contained.
       for (std::size_t i = 1; i < group.size(); ++i) {
+        const Instance& b = inst[group[i].instance];
+        std::size_t best = group.size();
+        int best_depth = -1;
         for (std::size_t j = i; j-- > 0;) {
           const Instance& a = inst[group[j].instance];
-          const Instance& b = inst[group[i].instance];
           if (!allowed(a, b)) continue;
-          Relation r = difference(
-              a.affine.plane(axis, group[j].side), b.affine.plane(axis, group[i].side), kind, true);
-          r.planes = {PlaneRef{a.element, axis, group[j].side, a.pose},
-                      PlaneRef{b.element, axis, group[i].side, b.pose}};
-          emit(std::move(r));
-          break;
+          const int depth = t.depth(
+              t.lowest_common_ancestor(t.element(a.element).node, t.element(b.element).node));
+          if (depth > best_depth) {
+            best_depth = depth;
+            best = j;
+          }
         }
+        if (best == group.size()) continue;
+        const Instance& a = inst[group[best].instance];
+        Relation r = difference(a.affine.plane(axis, group[best].side),
+                                b.affine.plane(axis, group[i].side),
+                                kind,
+                                true);
+        r.planes = {PlaneRef{a.element, axis, group[best].side, a.pose},
+                    PlaneRef{b.element, axis, group[i].side, b.pose}};
+        emit(std::move(r));
       }
       start = end;
     }
@@ -273,6 +287,45 @@ std::vector<Relation> principal_relations(const Template& t,
         r.planes = {PlaneRef{inst[lo].element, k, Side::kMax, inst[lo].pose},
                     PlaneRef{inst[hi].element, k, Side::kMin, inst[hi].pose}};
         emit(std::move(r));
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<Relation> non_penetration_relations(const Template& t,
+                                                const std::vector<ElementId>& first,
+                                                const std::vector<ElementId>& second,
+                                                const ExtractOptions& options) {
+  std::vector<Relation> out;
+  const double tol = options.plane_tolerance_mm;
+  for (ElementId a : first) {
+    if (!t.element(a).is_principal()) continue;
+    const Box ba = t.box(a);
+    const AffineBox aa = t.affine_box(a);
+    for (ElementId b : second) {
+      if (a == b || !t.element(b).is_principal()) continue;
+      const Box bb = t.box(b);
+      const AffineBox ab = t.affine_box(b);
+      for (int k = 0; k < options.axes; ++k) {
+        bool facing = true;
+        for (int m = 0; m < options.axes && facing; ++m) {
+          if (m != k && ba.overlap(bb, m) <= options.overlap_min_mm) facing = false;
+        }
+        if (!facing) continue;
+        Relation r;
+        if (ba.max()[k] <= bb.min()[k] + tol) {
+          r = difference(
+              aa.plane(k, Side::kMax), ab.plane(k, Side::kMin), RelationKind::kOrder, false);
+          r.planes = {PlaneRef{a, k, Side::kMax, ""}, PlaneRef{b, k, Side::kMin, ""}};
+        } else if (bb.max()[k] <= ba.min()[k] + tol) {
+          r = difference(
+              ab.plane(k, Side::kMax), aa.plane(k, Side::kMin), RelationKind::kOrder, false);
+          r.planes = {PlaneRef{b, k, Side::kMax, ""}, PlaneRef{a, k, Side::kMin, ""}};
+        } else {
+          continue;
+        }
+        out.push_back(std::move(r));
       }
     }
   }

@@ -93,6 +93,17 @@ ReducedSolution solve_reduced(const Eigen::MatrixXd& H,
   if (Gz.rows() == 0) return out;
   std::vector<Eigen::Index> working;
   std::vector<char> in_working(static_cast<std::size_t>(Gz.rows()), 0);
+  // Rows that vanish in the reduced space only hold or fail; they never enter the solver
+  // (a zero row with a slightly negative slack stalls SLSQP and Ipopt alike).
+  const Eigen::VectorXd norms = Gz.rowwise().norm();
+  for (Eigen::Index i = 0; i < Gz.rows(); ++i) {
+    if (norms[i] > 1e-12) continue;
+    in_working[i] = 1;
+    if (slack[i] < -tol) {
+      out.converged = false;
+      out.message = "an inequality cannot hold with the equalities";
+    }
+  }
   Eigen::VectorXd z = out.z;
   for (int round = 0; round < 50; ++round) {
     const Eigen::VectorXd viol = Gz * z - slack;
@@ -112,8 +123,9 @@ ReducedSolution solve_reduced(const Eigen::MatrixXd& H,
     p.C.resize(static_cast<Eigen::Index>(working.size()), Gz.cols());
     p.d.resize(static_cast<Eigen::Index>(working.size()));
     for (std::size_t j = 0; j < working.size(); ++j) {
-      p.C.row(static_cast<Eigen::Index>(j)) = Gz.row(working[j]);
-      p.d[static_cast<Eigen::Index>(j)] = slack[working[j]];
+      // Unit rows: slack in mm along each constraint's normal, whatever its scale.
+      p.C.row(static_cast<Eigen::Index>(j)) = Gz.row(working[j]) / norms[working[j]];
+      p.d[static_cast<Eigen::Index>(j)] = slack[working[j]] / norms[working[j]];
     }
     p.start = Eigen::VectorXd::Zero(Gz.cols());
     qp::Settings s;
@@ -133,6 +145,46 @@ ReducedSolution solve_reduced(const Eigen::MatrixXd& H,
           r.multipliers[static_cast<Eigen::Index>(j)] > 1e-9) {
         out.active.emplace_back(working[j], r.multipliers[static_cast<Eigen::Index>(j)]);
       }
+    }
+  }
+  // Polish: the active rows as equalities, the KKT system solved exactly. Solvers stop within
+  // their tolerances (~1e-7 mm); the polished point holds every row to rounding (~1e-12). It is
+  // kept only if it stays feasible with non-negative multipliers.
+  if (out.used_solver) {
+    std::vector<Eigen::Index> act;
+    const Eigen::VectorXd viol = Gz * z - slack;
+    for (Eigen::Index i = 0; i < viol.size(); ++i) {
+      if (norms[i] <= 1e-12 || viol[i] <= -1e-4 * norms[i]) continue;
+      // One row per direction: equal rows (four legs, one length) bind together.
+      bool duplicate = false;
+      for (Eigen::Index j : act) {
+        const double cosine = Gz.row(i).dot(Gz.row(j)) / (norms[i] * norms[j]);
+        duplicate = duplicate || (cosine > 1 - 1e-12 &&
+                                  std::abs(slack[i] / norms[i] - slack[j] / norms[j]) < 1e-9);
+      }
+      if (!duplicate) act.push_back(i);
+    }
+    const Eigen::Index r = Gz.cols(), m = static_cast<Eigen::Index>(act.size());
+    if (m > 0 && m <= r) {
+      Eigen::MatrixXd C(m, r);
+      Eigen::VectorXd d(m);
+      for (Eigen::Index j = 0; j < m; ++j) {
+        C.row(j) = Gz.row(act[j]) / norms[act[j]];
+        d[j] = slack[act[j]] / norms[act[j]];
+      }
+      Eigen::MatrixXd K = Eigen::MatrixXd::Zero(r + m, r + m);
+      K.topLeftCorner(r, r) = H;
+      K.topRightCorner(r, m) = C.transpose();
+      K.bottomLeftCorner(m, r) = C;
+      Eigen::VectorXd rhs(r + m);
+      rhs << -g, d;
+      const Eigen::VectorXd sol = K.colPivHouseholderQr().solve(rhs);
+      const Eigen::VectorXd zp = sol.head(r);
+      const Eigen::VectorXd mu = sol.tail(m);
+      const bool consistent =
+          (K * sol - rhs).cwiseAbs().maxCoeff() < 1e-8 * (1.0 + rhs.cwiseAbs().maxCoeff());
+      const bool feasible = ((Gz * zp - slack).array() <= tol).all();
+      if (consistent && feasible && (mu.array() >= -1e-9).all()) z = zp;
     }
   }
   out.z = z;
@@ -569,12 +621,19 @@ DragResult run_drag(const Template& t,
     out.q = q_cur;
     out.achieved = current;
   }
-  // The binding constraint: the active row with the largest multiplier.
+  // The binding constraint: the active row with the largest multiplier, preferring rows about
+  // the dragged node's own elements (equivalent rows bind together: four legs, one length).
   double best = 0;
+  bool best_own = false;
   for (const auto& [row, mu] : sol.active) {
-    if (mu > best) {
+    const RelationId id = m.in_ids[static_cast<std::size_t>(row)];
+    bool own = false;
+    for (ElementId e : t.relation(id).elements)
+      own = own || t.is_ancestor(c.node, t.element(e).node);
+    if ((own && !best_own) || (own == best_own && mu > best)) {
       best = mu;
-      out.binding = m.in_ids[static_cast<std::size_t>(row)];
+      best_own = own;
+      out.binding = id;
     }
   }
   explain(t, catalog, c, target, is_set, out);
@@ -596,17 +655,20 @@ DragResult Manipulator::set(const Control& c, double value) const {
   const Template& t = *template_;
   DragResult r = run_drag(t, t.q, *impl_, options_, catalog_, c, value, options_.set_weight, true);
   double ms = r.milliseconds;
-  for (int pass = 0; pass < 4 && !r.diagnostics.has_errors() && !r.binding; ++pass) {
+  for (int pass = 0; pass < 6 && !r.diagnostics.has_errors(); ++pass) {
     if (std::abs(r.achieved - value) < 1e-9) break;
     DragResult next =
         run_drag(t, r.q, *impl_, options_, catalog_, c, value, options_.set_weight, true);
     if (next.diagnostics.has_errors()) break;
     ms += next.milliseconds;
+    const bool stuck = std::abs(next.achieved - r.achieved) < 1e-9;  // a real bound
+    if (!next.binding) next.binding = r.binding;
     const bool used = r.used_solver || next.used_solver;
     const int iterations = r.solver_iterations + next.solver_iterations;
     r = std::move(next);
     r.used_solver = used;
     r.solver_iterations = iterations;
+    if (stuck) break;
   }
   r.milliseconds = ms;
   // Keep errors (solver failures); the warning is rewritten for the final pass.

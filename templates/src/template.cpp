@@ -392,3 +392,265 @@ AffineBox rest_pose_box(const Template& t, const TemplateArticulation& a, Elemen
 }
 
 }  // namespace fabkit::templates
+
+namespace fabkit::templates {
+
+NodeId Template::append(const Template& other, NodeId parent, const std::string& new_name) {
+  const int node_offset = static_cast<int>(nodes.size());
+  const int element_offset = static_cast<int>(elements.size());
+  const int relation_offset = static_cast<int>(relations.size());
+  const int connection_offset = static_cast<int>(connections.size());
+  const int index_offset = element_offset * kParamsPerElement;
+  auto node_of = [&](NodeId n) { return n.valid() ? NodeId(n.value + node_offset) : parent; };
+  for (const Node& n : other.nodes) {
+    Node copy = n;
+    copy.parent = node_of(n.parent);
+    for (NodeId& c : copy.children) c = NodeId(c.value + node_offset);
+    if (copy.element) copy.element = ElementId(copy.element->value + element_offset);
+    for (RelationId& r : copy.relations) r = RelationId(r.value + relation_offset);
+    for (ConnectionId& c : copy.connections) c = ConnectionId(c.value + connection_offset);
+    nodes.push_back(std::move(copy));
+  }
+  const NodeId root_copy(node_offset);
+  nodes[root_copy.value].name = new_name;
+  nodes[parent.value].children.push_back(root_copy);
+  for (const Element& e : other.elements) {
+    Element copy = e;
+    copy.node = NodeId(e.node.value + node_offset);
+    elements.push_back(std::move(copy));
+  }
+  for (const Relation& r : other.relations) {
+    Relation copy = r;
+    for (LinearTerm& t : copy.terms) t.index += index_offset;
+    for (ElementId& e : copy.elements) e = ElementId(e.value + element_offset);
+    for (PlaneRef& p : copy.planes) p.element = ElementId(p.element.value + element_offset);
+    copy.node = NodeId(r.node.value + node_offset);
+    if (copy.connection.valid())
+      copy.connection = ConnectionId(r.connection.value + connection_offset);
+    relations.push_back(std::move(copy));
+  }
+  for (const Connection& c : other.connections) {
+    Connection copy = c;
+    for (ElementId& e : copy.principal) e = ElementId(e.value + element_offset);
+    for (ElementId& e : copy.connecting) e = ElementId(e.value + element_offset);
+    for (RelationId& r : copy.relations) r = RelationId(r.value + relation_offset);
+    for (RelationId& r : copy.placement) r = RelationId(r.value + relation_offset);
+    copy.node = NodeId(c.node.value + node_offset);
+    connections.push_back(std::move(copy));
+  }
+  for (const TemplateArticulation& a : other.articulations) {
+    TemplateArticulation copy = a;
+    for (ElementId& e : copy.moving) e = ElementId(e.value + element_offset);
+    copy.pivot_element = ElementId(a.pivot_element.value + element_offset);
+    articulations.push_back(std::move(copy));
+  }
+  Eigen::VectorXd grown(q.size() + other.q.size());
+  grown << q, other.q;
+  q = grown;
+  return root_copy;
+}
+
+Template Template::without(NodeId n) const {
+  std::vector<char> removed_element(elements.size(), 0);
+  for (ElementId e : elements_under(n)) removed_element[e.value] = 1;
+  // Connections touching a removed principal element go, with their connecting elements.
+  std::vector<char> removed_connection(connections.size(), 0);
+  for (std::size_t c = 0; c < connections.size(); ++c) {
+    bool gone = false;
+    for (ElementId e : connections[c].principal) gone = gone || removed_element[e.value];
+    for (ElementId e : connections[c].connecting) gone = gone || removed_element[e.value];
+    if (!gone) continue;
+    removed_connection[c] = 1;
+    for (ElementId e : connections[c].connecting) removed_element[e.value] = 1;
+  }
+  std::vector<char> removed_node(nodes.size(), 0);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const NodeId id(static_cast<int>(i));
+    if (is_ancestor(n, id)) removed_node[i] = 1;
+    if (nodes[i].element && removed_element[nodes[i].element->value]) removed_node[i] = 1;
+  }
+  // Connection nodes left empty go too.
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (!nodes[i].connection_node || removed_node[i]) continue;
+    bool any = false;
+    for (NodeId c : nodes[i].children) any = any || !removed_node[c.value];
+    if (!any) removed_node[i] = 1;
+  }
+  removed_node[0] = 0;
+  std::vector<int> element_map(elements.size(), -1), node_map(nodes.size(), -1),
+      connection_map(connections.size(), -1), relation_map(relations.size(), -1);
+  int ne = 0, nn = 0, nc = 0, nr = 0;
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    if (!removed_element[i]) element_map[i] = ne++;
+  }
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (!removed_node[i]) node_map[i] = nn++;
+  }
+  for (std::size_t i = 0; i < connections.size(); ++i) {
+    if (!removed_connection[i]) connection_map[i] = nc++;
+  }
+  for (std::size_t i = 0; i < relations.size(); ++i) {
+    bool keep = node_map[relations[i].node.value] >= 0;
+    for (ElementId e : relations[i].elements) keep = keep && !removed_element[e.value];
+    if (relations[i].connection.valid())
+      keep = keep && !removed_connection[relations[i].connection.value];
+    if (keep) relation_map[i] = nr++;
+  }
+  Template t;
+  t.name = name;
+  t.title = title;
+  t.category = category;
+  t.q.resize(ne * kParamsPerElement);
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    if (element_map[i] < 0) continue;
+    Element e = elements[i];
+    e.node = NodeId(node_map[e.node.value]);
+    t.elements.push_back(std::move(e));
+    t.q.segment<kParamsPerElement>(element_map[i] * kParamsPerElement) =
+        q.segment<kParamsPerElement>(static_cast<Eigen::Index>(i) * kParamsPerElement);
+  }
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (node_map[i] < 0) continue;
+    Node copy = nodes[i];
+    copy.parent = copy.parent.valid() ? NodeId(node_map[copy.parent.value]) : NodeId();
+    std::vector<NodeId> children;
+    for (NodeId c : copy.children) {
+      if (node_map[c.value] >= 0) children.push_back(NodeId(node_map[c.value]));
+    }
+    copy.children = children;
+    if (copy.element) copy.element = ElementId(element_map[copy.element->value]);
+    std::vector<RelationId> rs;
+    for (RelationId r : copy.relations) {
+      if (relation_map[r.value] >= 0) rs.push_back(RelationId(relation_map[r.value]));
+    }
+    copy.relations = rs;
+    std::vector<ConnectionId> cs;
+    for (ConnectionId c : copy.connections) {
+      if (connection_map[c.value] >= 0) cs.push_back(ConnectionId(connection_map[c.value]));
+    }
+    copy.connections = cs;
+    t.nodes.push_back(std::move(copy));
+  }
+  auto map_index = [&](int index) {
+    return element_map[index / kParamsPerElement] * kParamsPerElement + index % kParamsPerElement;
+  };
+  for (std::size_t i = 0; i < relations.size(); ++i) {
+    if (relation_map[i] < 0) continue;
+    Relation r = relations[i];
+    for (LinearTerm& term : r.terms) term.index = map_index(term.index);
+    for (ElementId& e : r.elements) e = ElementId(element_map[e.value]);
+    for (PlaneRef& p : r.planes) p.element = ElementId(element_map[p.element.value]);
+    r.node = NodeId(node_map[r.node.value]);
+    if (r.connection.valid()) r.connection = ConnectionId(connection_map[r.connection.value]);
+    t.relations.push_back(std::move(r));
+  }
+  for (std::size_t i = 0; i < connections.size(); ++i) {
+    if (connection_map[i] < 0) continue;
+    Connection c = connections[i];
+    for (ElementId& e : c.principal) e = ElementId(element_map[e.value]);
+    for (ElementId& e : c.connecting) e = ElementId(element_map[e.value]);
+    for (RelationId& r : c.relations) r = RelationId(relation_map[r.value]);
+    for (RelationId& r : c.placement) r = RelationId(relation_map[r.value]);
+    c.node = NodeId(node_map[c.node.value]);
+    t.connections.push_back(std::move(c));
+  }
+  for (const TemplateArticulation& a : articulations) {
+    bool keep = !removed_element[a.pivot_element.value];
+    TemplateArticulation copy = a;
+    copy.moving.clear();
+    for (ElementId e : a.moving) {
+      if (!removed_element[e.value]) copy.moving.push_back(ElementId(element_map[e.value]));
+    }
+    if (!keep || copy.moving.empty()) continue;
+    copy.pivot_element = ElementId(element_map[a.pivot_element.value]);
+    t.articulations.push_back(std::move(copy));
+  }
+  return t;
+}
+
+ConnectionId Template::add_connection(Connection c, NodeId parent) {
+  if (node(parent).element) parent = node(parent).parent;
+  const NodeId cn(static_cast<int>(nodes.size()));
+  nodes.push_back(Node{c.name, parent, {}, std::nullopt, true, {}, {}});
+  nodes[parent.value].children.push_back(cn);
+  for (ElementId e : c.connecting) {
+    const NodeId leaf(static_cast<int>(nodes.size()));
+    nodes.push_back(Node{elements[e.value].name, cn, {}, e, false, {}, {}});
+    nodes[cn.value].children.push_back(leaf);
+    elements[e.value].node = leaf;
+  }
+  c.node = parent;
+  const ConnectionId id(static_cast<int>(connections.size()));
+  for (RelationId r : c.relations) relations[r.value].connection = id;
+  for (RelationId r : c.placement) relations[r.value].connection = id;
+  nodes[parent.value].connections.push_back(id);
+  connections.push_back(std::move(c));
+  return id;
+}
+
+}  // namespace fabkit::templates
+
+namespace fabkit::templates {
+
+Template Template::restricted_to(const std::vector<ElementId>& free) const {
+  Template t;
+  t.name = name;
+  t.nodes.push_back(Node{name, NodeId(), {}, std::nullopt, false, {}, {}});
+  std::vector<int> map(elements.size(), -1);
+  t.q.resize(static_cast<Eigen::Index>(free.size()) * kParamsPerElement);
+  for (std::size_t i = 0; i < free.size(); ++i) {
+    map[free[i].value] = static_cast<int>(i);
+    Element e = elements[free[i].value];
+    e.node = NodeId(static_cast<int>(t.nodes.size()));
+    t.nodes.push_back(Node{e.name, t.root(), {}, ElementId(static_cast<int>(i)), false, {}, {}});
+    t.nodes[0].children.push_back(e.node);
+    t.elements.push_back(std::move(e));
+    t.q.segment<kParamsPerElement>(static_cast<Eigen::Index>(i) * kParamsPerElement) =
+        q.segment<kParamsPerElement>(free[i].value * kParamsPerElement);
+  }
+  for (const Relation& r : relations) {
+    bool touches = false;
+    for (const LinearTerm& term : r.terms)
+      touches = touches || map[term.index / kParamsPerElement] >= 0;
+    if (!touches) continue;
+    Relation copy = r;
+    copy.terms.clear();
+    copy.elements.clear();
+    for (const LinearTerm& term : r.terms) {
+      const int e = map[term.index / kParamsPerElement];
+      if (e < 0) {
+        copy.rhs -= term.coefficient * q[term.index];
+      } else {
+        copy.terms.push_back(
+            {e * kParamsPerElement + term.index % kParamsPerElement, term.coefficient});
+        if (std::find(copy.elements.begin(), copy.elements.end(), ElementId(e)) ==
+            copy.elements.end()) {
+          copy.elements.push_back(ElementId(e));
+        }
+      }
+    }
+    std::vector<PlaneRef> planes;
+    for (PlaneRef p : r.planes) {
+      if (map[p.element.value] >= 0) {
+        p.element = ElementId(map[p.element.value]);
+        planes.push_back(p);
+      }
+    }
+    copy.planes = planes;
+    copy.node = t.root();
+    copy.connection = ConnectionId();
+    t.relations.push_back(std::move(copy));
+  }
+  for (const TemplateArticulation& a : articulations) {
+    bool inside = map[a.pivot_element.value] >= 0;
+    for (ElementId e : a.moving) inside = inside && map[e.value] >= 0;
+    if (!inside) continue;
+    TemplateArticulation copy = a;
+    copy.pivot_element = ElementId(map[a.pivot_element.value]);
+    for (ElementId& e : copy.moving) e = ElementId(map[e.value]);
+    t.articulations.push_back(std::move(copy));
+  }
+  return t;
+}
+
+}  // namespace fabkit::templates

@@ -43,6 +43,14 @@ std::vector<Relation> principal_relations(const Template& t,
                                           const std::vector<ElementId>& second,
                                           const ExtractOptions& options = {});
 
+/// Order relations that keep each element of `first` out of each facing element of `second`
+/// (design pose), including pairs that touch: what connecting must not violate (paper §4.5:
+/// principal elements may shift to make room for connectors, but not into each other).
+std::vector<Relation> non_penetration_relations(const Template& t,
+                                                const std::vector<ElementId>& first,
+                                                const std::vector<ElementId>& second,
+                                                const ExtractOptions& options = {});
+
 /// The hard relations between the connecting and principal elements of a connection (all four
 /// plane comparisons per axis) and its soft placement relations on the contact patch.
 void connection_relations(const Template& t,

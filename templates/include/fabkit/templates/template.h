@@ -238,6 +238,23 @@ class Template {
   /// at or below it, and its articulations. Its name becomes "<name>/<path>".
   Template subtree(NodeId n) const;
 
+  /// Appends a copy of `other` as a new child of `parent` named `name` (its root renamed);
+  /// returns the new node. Elements, relations and connections are re-indexed after this
+  /// template's own; q grows by other's parameters.
+  NodeId append(const Template& other, NodeId parent, const std::string& name);
+  /// This template without the nodes below (and at) `n`, and without every relation and
+  /// connection that involves a removed element (a connection's connecting elements go with
+  /// it). The root cannot be removed.
+  Template without(NodeId n) const;
+  /// Adds a connection node under `parent` holding new connecting elements; returns the
+  /// connection's id. `elements` and `relations` must already be in this template.
+  ConnectionId add_connection(Connection c, NodeId parent);
+
+  /// The problem of moving only `free` (in that order): every relation touching a free
+  /// element, with the other elements' terms folded in as constants at the current q. Used to
+  /// evaluate local changes (a connection between two elements) on a small QP.
+  Template restricted_to(const std::vector<ElementId>& free) const;
+
   /// Every relation's largest violation at q (equalities |r|, inequalities max(0, r)); hard
   /// relations only.
   double max_violation(const Eigen::VectorXd& at) const;
