@@ -19,11 +19,16 @@
 namespace fabkit::cli {
 
 std::span<const KitCommands> kits() {
-  static constexpr std::array<KitCommands, 1> kAll = {
+  static constexpr std::array<KitCommands, 2> kAll = {
       KitCommands{"hacks",
                   "fixture hacks from everyday parts (FabHaL); build solves and exports",
                   hacks_check,
                   hacks_build},
+      KitCommands{"templates",
+                  "furniture composed from a database of fabricable templates; build writes the "
+                  "bill of materials, cut diagrams and 3D model",
+                  templates_check,
+                  templates_build},
   };
   return kAll;
 }

@@ -29,5 +29,7 @@ std::span<const KitCommands> kits();
 // The kits' entry points.
 int hacks_check(const DesignInput& input);
 int hacks_build(const DesignInput& input);
+int templates_check(const DesignInput& input);
+int templates_build(const DesignInput& input);
 
 }  // namespace fabkit::cli
