@@ -5,5 +5,6 @@
 namespace fabkit::python {
 
 void bind_hacks(pybind11::module_ m);
+void bind_templates(pybind11::module_ m);
 
 }  // namespace fabkit::python

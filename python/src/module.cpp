@@ -50,4 +50,5 @@ PYBIND11_MODULE(_fabkit, m) {
       });
 
   python::bind_hacks(m.def_submodule("hacks", "the FabHaL kit"));
+  python::bind_templates(m.def_submodule("templates", "the design and fabrication by example kit"));
 }

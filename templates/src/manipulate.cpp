@@ -628,10 +628,16 @@ DragResult run_drag(const Template& t,
   for (const auto& [row, mu] : sol.active) {
     const RelationId id = m.in_ids[static_cast<std::size_t>(row)];
     bool own = false;
-    for (ElementId e : t.relation(id).elements)
+    for (ElementId e : t.relation(id).elements) {
       own = own || t.is_ancestor(c.node, t.element(e).node);
-    if ((own && !best_own) || (own == best_own && mu > best)) {
-      best = mu;
+    }
+    // How much the row opposes this control: its multiplier times its alignment with cⱼ in
+    // the reduced space (a tight row at right angles to the drag does not stop it).
+    const double norm = bs.GN.row(row).norm() * session->u.norm();
+    const double score = norm > 0 ? mu * std::abs(bs.GN.row(row).dot(session->u)) / norm : 0.0;
+    if (score <= 1e-12) continue;
+    if ((own && !best_own) || (own == best_own && score > best)) {
+      best = score;
       best_own = own;
       out.binding = id;
     }

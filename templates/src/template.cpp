@@ -111,15 +111,21 @@ NodeId Template::find(std::string_view p) const {
 
 NodeId Template::find_node_or_element(std::string_view name) const {
   if (name.find('/') != std::string_view::npos || name.empty()) return find(name);
-  NodeId found;
-  int hits = 0;
+  NodeId found, leaf;
+  int hits = 0, leaves = 0;
   for (std::size_t i = 0; i < nodes.size(); ++i) {
-    if (nodes[i].name == name) {
-      found = NodeId(static_cast<int>(i));
-      ++hits;
+    if (nodes[i].name != name) continue;
+    found = NodeId(static_cast<int>(i));
+    ++hits;
+    if (nodes[i].element) {
+      leaf = found;
+      ++leaves;
     }
   }
-  return hits == 1 ? found : find(name);
+  if (hits == 1) return found;
+  // "top" names both the group and the board in it: the part is meant.
+  if (leaves == 1) return leaf;
+  return find(name);
 }
 
 std::vector<ElementId> Template::elements_under(NodeId n) const {
