@@ -10,8 +10,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <mutex>
+#include <numeric>
 
 #include "fabkit/templates/diagnostic_codes.h"
 #include "qp.h"
@@ -70,6 +72,75 @@ NullSpace null_space(const Eigen::MatrixXd& M, Eigen::Index n) {
   return out;
 }
 
+// The same from sparse rows, block by block: rows only couple the parameters they mention
+// (one axis of a few related elements), so the equality system splits into small independent
+// blocks whose null spaces are computed separately — a 200-part model's 768 × 1500 system
+// becomes dozens of blocks of tens of parameters.
+NullSpace null_space(const SparseRows& A, Eigen::Index n) {
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  std::iota(parent.begin(), parent.end(), 0);
+  std::function<int(int)> root = [&](int x) {
+    return parent[x] == x ? x : parent[x] = root(parent[x]);
+  };
+  std::vector<int> first_var(static_cast<std::size_t>(A.rows()), -1);
+  for (Eigen::Index r = 0; r < A.rows(); ++r) {
+    for (SparseRows::InnerIterator it(A, r); it; ++it) {
+      if (it.value() == 0) continue;
+      const int v = static_cast<int>(it.col());
+      if (first_var[r] < 0) {
+        first_var[r] = v;
+      } else {
+        parent[root(v)] = root(first_var[r]);
+      }
+    }
+  }
+  std::map<int, std::vector<int>> vars, rows;
+  for (int v = 0; v < n; ++v) vars[root(v)].push_back(v);
+  for (Eigen::Index r = 0; r < A.rows(); ++r) {
+    if (first_var[r] >= 0) rows[root(first_var[r])].push_back(static_cast<int>(r));
+  }
+  std::vector<Eigen::VectorXd> n_cols, y_cols;
+  for (const auto& [key, vs] : vars) {
+    const auto rit = rows.find(key);
+    if (rit == rows.end()) {
+      for (int v : vs) {
+        Eigen::VectorXd e = Eigen::VectorXd::Zero(n);
+        e[v] = 1;
+        n_cols.push_back(std::move(e));
+      }
+      continue;
+    }
+    std::map<int, int> local;
+    for (std::size_t i = 0; i < vs.size(); ++i) local[vs[i]] = static_cast<int>(i);
+    Eigen::MatrixXd block = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rit->second.size()),
+                                                  static_cast<Eigen::Index>(vs.size()));
+    for (std::size_t i = 0; i < rit->second.size(); ++i) {
+      for (SparseRows::InnerIterator it(A, rit->second[i]); it; ++it) {
+        block(static_cast<Eigen::Index>(i), local[static_cast<int>(it.col())]) += it.value();
+      }
+    }
+    const NullSpace b = null_space(block, static_cast<Eigen::Index>(vs.size()));
+    for (Eigen::Index c = 0; c < b.N.cols(); ++c) {
+      Eigen::VectorXd col = Eigen::VectorXd::Zero(n);
+      for (std::size_t i = 0; i < vs.size(); ++i) col[vs[i]] = b.N(static_cast<Eigen::Index>(i), c);
+      n_cols.push_back(std::move(col));
+    }
+    for (Eigen::Index c = 0; c < b.Y.cols(); ++c) {
+      Eigen::VectorXd col = Eigen::VectorXd::Zero(n);
+      for (std::size_t i = 0; i < vs.size(); ++i) col[vs[i]] = b.Y(static_cast<Eigen::Index>(i), c);
+      y_cols.push_back(std::move(col));
+    }
+  }
+  NullSpace out;
+  out.N.resize(n, static_cast<Eigen::Index>(n_cols.size()));
+  for (std::size_t c = 0; c < n_cols.size(); ++c)
+    out.N.col(static_cast<Eigen::Index>(c)) = n_cols[c];
+  out.Y.resize(n, static_cast<Eigen::Index>(y_cols.size()));
+  for (std::size_t c = 0; c < y_cols.size(); ++c)
+    out.Y.col(static_cast<Eigen::Index>(c)) = y_cols[c];
+  return out;
+}
+
 // A reduced QP in z (q = q0 + N z) with inequality rows Gz z ≤ slack, solved by adding
 // violated rows to the solver's working set until none is violated (exact for a convex QP).
 struct ReducedSolution {
@@ -91,6 +162,14 @@ ReducedSolution solve_reduced(const Eigen::MatrixXd& H,
   ReducedSolution out;
   out.z = llt.solve(-g);
   if (Gz.rows() == 0) return out;
+  const Eigen::Index r = Gz.cols();
+  if (r == 0) {  // nothing can move: the rows hold or they do not
+    if ((slack.array() < -tol).any()) {
+      out.converged = false;
+      out.message = "an inequality cannot hold with the equalities";
+    }
+    return out;
+  }
   std::vector<Eigen::Index> working;
   std::vector<char> in_working(static_cast<std::size_t>(Gz.rows()), 0);
   // Rows that vanish in the reduced space only hold or fail; they never enter the solver
@@ -104,87 +183,130 @@ ReducedSolution solve_reduced(const Eigen::MatrixXd& H,
       out.message = "an inequality cannot hold with the equalities";
     }
   }
+  // The reduced variables fall into groups H does not couple (parts of the model unrelated by
+  // equalities and placement). Only the groups a working row touches go to the solver; the
+  // others keep their unconstrained optimum. Exact: nothing else couples them.
+  std::vector<int> group(static_cast<std::size_t>(r));
+  std::iota(group.begin(), group.end(), 0);
+  std::function<int(int)> find = [&](int x) {
+    return group[x] == x ? x : group[x] = find(group[x]);
+  };
+  const double hscale = 1e-14 * (1.0 + H.cwiseAbs().maxCoeff());
+  for (Eigen::Index i = 0; i < r; ++i) {
+    for (Eigen::Index j = i + 1; j < r; ++j) {
+      if (std::abs(H(i, j)) > hscale) group[find(static_cast<int>(i))] = find(static_cast<int>(j));
+    }
+  }
+  std::vector<char> group_in(static_cast<std::size_t>(r), 0);
   Eigen::VectorXd z = out.z;
+  std::vector<Eigen::Index> vars;  // the solver's variables, ascending
   for (int round = 0; round < 50; ++round) {
     const Eigen::VectorXd viol = Gz * z - slack;
     bool added = false;
     for (Eigen::Index i = 0; i < viol.size(); ++i) {
-      // Violated rows, and rows already tight (they usually stay so).
-      if ((viol[i] > tol || (round == 0 && viol[i] > -tol)) && !in_working[i]) {
+      // Violated rows only: tight rows that the step does not push stay out of the solver.
+      if (viol[i] > tol && !in_working[i]) {
         in_working[i] = 1;
         working.push_back(i);
         added = true;
+        for (Eigen::Index j = 0; j < r; ++j) {
+          if (std::abs(Gz(i, j)) > 1e-14 * norms[i]) group_in[find(static_cast<int>(j))] = 1;
+        }
       }
     }
     if (!added) break;
+    vars.clear();
+    for (Eigen::Index j = 0; j < r; ++j) {
+      if (group_in[find(static_cast<int>(j))]) vars.push_back(j);
+    }
+    const Eigen::Index k = static_cast<Eigen::Index>(vars.size());
+    Eigen::MatrixXd Hs(k, k);
+    Eigen::VectorXd gs(k);
+    for (Eigen::Index a = 0; a < k; ++a) {
+      gs[a] = g[vars[a]];
+      for (Eigen::Index b = 0; b < k; ++b) Hs(a, b) = H(vars[a], vars[b]);
+    }
+    const Eigen::LLT<Eigen::MatrixXd> lls(Hs);
+    const auto L = lls.matrixL();
+    // Rows on the chosen variables; the others stay at the unconstrained optimum.
+    Eigen::VectorXd fixed_part = Gz * out.z;
+    Eigen::MatrixXd Ct(k, static_cast<Eigen::Index>(working.size()));
     qp::Problem p;
-    p.H = H;
-    p.g = g;
-    p.C.resize(static_cast<Eigen::Index>(working.size()), Gz.cols());
     p.d.resize(static_cast<Eigen::Index>(working.size()));
     for (std::size_t j = 0; j < working.size(); ++j) {
+      const Eigen::Index row = working[j];
+      double inside = 0;
+      for (Eigen::Index a = 0; a < k; ++a) {
+        Ct(a, static_cast<Eigen::Index>(j)) = Gz(row, vars[a]) / norms[row];
+        inside += Gz(row, vars[a]) * out.z[vars[a]];
+      }
       // Unit rows: slack in mm along each constraint's normal, whatever its scale.
-      p.C.row(static_cast<Eigen::Index>(j)) = Gz.row(working[j]) / norms[working[j]];
-      p.d[static_cast<Eigen::Index>(j)] = slack[working[j]] / norms[working[j]];
+      p.d[static_cast<Eigen::Index>(j)] = (slack[row] - (fixed_part[row] - inside)) / norms[row];
     }
-    p.start = Eigen::VectorXd::Zero(Gz.cols());
+    // The solver sees the problem in y = Lᵀz (H = L·Lᵀ): an identity Hessian, so SLSQP's
+    // quasi-Newton model is exact from its first step and Ipopt's is trivially conditioned;
+    // the rows and their multipliers are the same.
+    p.H = Eigen::MatrixXd::Identity(k, k);
+    p.g = L.solve(gs);
+    p.C = L.solve(Ct).transpose();
+    p.start = Eigen::VectorXd::Zero(k);
     qp::Settings s;
     s.backend = solver == QpSolver::kIpopt ? qp::Backend::kIpopt : qp::Backend::kSlsqp;
     s.tolerance = std::min(1e-10, tol * 1e-3);
-    const qp::Result r = qp::solve(p, s);
+    const qp::Result res = qp::solve(p, s);
     out.used_solver = true;
-    out.iterations += r.iterations;
-    if (!r.converged) {
+    out.iterations += res.iterations;
+    if (!res.converged) {
       out.converged = false;
-      out.message = r.message;
+      out.message = res.message;
     }
-    z = r.z;
+    Eigen::VectorXd zs = lls.matrixU().solve(res.z);
+    // Polish: the rows the solver left (nearly) tight, as equalities, solved exactly by the
+    // range-space KKT equations; a row with a negative multiplier is released and the rest
+    // solved again. Solvers stop within their tolerances; the polished point holds every row
+    // to rounding. It is kept only if it is feasible.
+    {
+      std::vector<Eigen::Index> act;
+      const Eigen::VectorXd vs = Ct.transpose() * zs - p.d;
+      for (std::size_t j = 0; j < working.size(); ++j) {
+        if (vs[static_cast<Eigen::Index>(j)] <= -1e-2) continue;
+        bool duplicate = false;
+        for (Eigen::Index q : act) {
+          const double cosine = Ct.col(static_cast<Eigen::Index>(j)).dot(Ct.col(q));
+          duplicate = duplicate || (cosine > 1 - 1e-12 &&
+                                    std::abs(p.d[static_cast<Eigen::Index>(j)] - p.d[q]) < 1e-9);
+        }
+        if (!duplicate) act.push_back(static_cast<Eigen::Index>(j));
+      }
+      const Eigen::VectorXd Lg = L.solve(gs);
+      for (int attempt = 0; attempt < 10 && !act.empty(); ++attempt) {
+        const Eigen::Index m = static_cast<Eigen::Index>(act.size());
+        Eigen::MatrixXd Ca(k, m);
+        Eigen::VectorXd d(m);
+        for (Eigen::Index j = 0; j < m; ++j) {
+          Ca.col(j) = Ct.col(act[j]);
+          d[j] = p.d[act[j]];
+        }
+        const Eigen::MatrixXd W = L.solve(Ca);  // L⁻¹Cᵀ
+        const Eigen::VectorXd mu = (W.transpose() * W).ldlt().solve(-(d + W.transpose() * Lg));
+        Eigen::Index worst = 0;
+        if (mu.minCoeff(&worst) < -1e-9) {
+          act.erase(act.begin() + worst);
+          continue;
+        }
+        const Eigen::VectorXd zp = lls.matrixU().solve(-(Lg + W * mu));
+        if (zp.allFinite() && ((Ct.transpose() * zp - p.d).array() <= tol).all()) zs = zp;
+        break;
+      }
+    }
+    z = out.z;
+    for (Eigen::Index a = 0; a < k; ++a) z[vars[a]] = zs[a];
     out.active.clear();
     for (std::size_t j = 0; j < working.size(); ++j) {
-      if (r.multipliers.size() > static_cast<Eigen::Index>(j) &&
-          r.multipliers[static_cast<Eigen::Index>(j)] > 1e-9) {
-        out.active.emplace_back(working[j], r.multipliers[static_cast<Eigen::Index>(j)]);
+      if (res.multipliers.size() > static_cast<Eigen::Index>(j) &&
+          res.multipliers[static_cast<Eigen::Index>(j)] > 1e-9) {
+        out.active.emplace_back(working[j], res.multipliers[static_cast<Eigen::Index>(j)]);
       }
-    }
-  }
-  // Polish: the active rows as equalities, the KKT system solved exactly. Solvers stop within
-  // their tolerances (~1e-7 mm); the polished point holds every row to rounding (~1e-12). It is
-  // kept only if it stays feasible with non-negative multipliers.
-  if (out.used_solver) {
-    std::vector<Eigen::Index> act;
-    const Eigen::VectorXd viol = Gz * z - slack;
-    for (Eigen::Index i = 0; i < viol.size(); ++i) {
-      if (norms[i] <= 1e-12 || viol[i] <= -1e-4 * norms[i]) continue;
-      // One row per direction: equal rows (four legs, one length) bind together.
-      bool duplicate = false;
-      for (Eigen::Index j : act) {
-        const double cosine = Gz.row(i).dot(Gz.row(j)) / (norms[i] * norms[j]);
-        duplicate = duplicate || (cosine > 1 - 1e-12 &&
-                                  std::abs(slack[i] / norms[i] - slack[j] / norms[j]) < 1e-9);
-      }
-      if (!duplicate) act.push_back(i);
-    }
-    const Eigen::Index r = Gz.cols(), m = static_cast<Eigen::Index>(act.size());
-    if (m > 0 && m <= r) {
-      Eigen::MatrixXd C(m, r);
-      Eigen::VectorXd d(m);
-      for (Eigen::Index j = 0; j < m; ++j) {
-        C.row(j) = Gz.row(act[j]) / norms[act[j]];
-        d[j] = slack[act[j]] / norms[act[j]];
-      }
-      Eigen::MatrixXd K = Eigen::MatrixXd::Zero(r + m, r + m);
-      K.topLeftCorner(r, r) = H;
-      K.topRightCorner(r, m) = C.transpose();
-      K.bottomLeftCorner(m, r) = C;
-      Eigen::VectorXd rhs(r + m);
-      rhs << -g, d;
-      const Eigen::VectorXd sol = K.colPivHouseholderQr().solve(rhs);
-      const Eigen::VectorXd zp = sol.head(r);
-      const Eigen::VectorXd mu = sol.tail(m);
-      const bool consistent =
-          (K * sol - rhs).cwiseAbs().maxCoeff() < 1e-8 * (1.0 + rhs.cwiseAbs().maxCoeff());
-      const bool feasible = ((Gz * zp - slack).array() <= tol).all();
-      if (consistent && feasible && (mu.array() >= -1e-9).all()) z = zp;
     }
   }
   out.z = z;
@@ -407,13 +529,18 @@ struct Manipulator::Impl {
   std::shared_ptr<Basis> basis(const std::vector<std::vector<LinearTerm>>& extra) const {
     const std::string key = key_of(extra);
     if (auto it = bases.find(key); it != bases.end()) return it->second;
-    Eigen::MatrixXd M(A.rows() + static_cast<Eigen::Index>(extra.size()), n);
-    M.topRows(A.rows()) = Eigen::MatrixXd(A);
-    M.bottomRows(static_cast<Eigen::Index>(extra.size())).setZero();
+    std::vector<Eigen::Triplet<double>> trip;
+    for (Eigen::Index r = 0; r < A.rows(); ++r) {
+      for (SparseRows::InnerIterator it(A, r); it; ++it)
+        trip.emplace_back(static_cast<int>(r), static_cast<int>(it.col()), it.value());
+    }
     for (std::size_t i = 0; i < extra.size(); ++i) {
       for (const LinearTerm& t : extra[i])
-        M(A.rows() + static_cast<Eigen::Index>(i), t.index) += t.coefficient;
+        trip.emplace_back(
+            static_cast<int>(A.rows() + static_cast<Eigen::Index>(i)), t.index, t.coefficient);
     }
+    SparseRows M(A.rows() + static_cast<Eigen::Index>(extra.size()), n);
+    M.setFromTriplets(trip.begin(), trip.end());
     auto bs = std::make_shared<Basis>();
     bs->N = null_space(M, n).N;
     bs->GN = G * bs->N;
@@ -702,7 +829,7 @@ ProjectResult project_to_feasible(const Template& t,
   const SparseRows G = to_sparse(in, n, h);
   const SparseRows S = to_sparse(soft, n, s);
   const Eigen::MatrixXd Ad(A);
-  const NullSpace ns = null_space(Ad, n);
+  const NullSpace ns = null_space(A, n);
   // The point of A q = b nearest q_ref (in the row space of A).
   Eigen::VectorXd q0 = q_ref;
   if (ns.Y.cols() > 0) {

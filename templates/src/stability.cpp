@@ -197,7 +197,9 @@ StabilityResult check_stability(const Template& t,
     p.lower = Eigen::VectorXd::Zero(nvar);
     p.start = Eigen::VectorXd::Zero(nvar);
     qp::Settings s;
-    s.backend = o.solver == QpSolver::kIpopt ? qp::Backend::kIpopt : qp::Backend::kSlsqp;
+    const QpSolver solver =
+        o.solver.value_or(nvar <= o.slsqp_up_to ? QpSolver::kSlsqp : QpSolver::kIpopt);
+    s.backend = solver == QpSolver::kIpopt ? qp::Backend::kIpopt : qp::Backend::kSlsqp;
     s.tolerance = 1e-12;
     s.max_iterations = 2000;
     const qp::Result r = qp::solve(p, s);

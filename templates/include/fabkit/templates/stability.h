@@ -9,6 +9,7 @@
 /// Differs from the paper (one step of staggered projections): the same contact and friction
 /// model, solved as a static equilibrium instead of a dynamics step.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,7 +36,11 @@ struct StabilityOptions {
   /// loads (or its torque, of weight × size).
   double imbalance = 1e-3;
   std::vector<Load> loads;
-  QpSolver solver = QpSolver::kSlsqp;
+  /// The QP solver; unset: chosen by size as measured (docs/benchmarks.md): SLSQP up to
+  /// `slsqp_up_to` friction-cone variables (0.4 ms at 64), Ipopt above (10 ms at 192, where
+  /// SLSQP's quasi-Newton steps take 130 ms on this rank-deficient least squares).
+  std::optional<QpSolver> solver;
+  int slsqp_up_to = 96;
 };
 
 /// One rigid body: principal elements joined by connections.
