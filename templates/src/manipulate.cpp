@@ -243,16 +243,44 @@ ReducedSolution solve_reduced(const Eigen::MatrixXd& H,
       // Unit rows: slack in mm along each constraint's normal, whatever its scale.
       p.d[static_cast<Eigen::Index>(j)] = (slack[row] - (fixed_part[row] - inside)) / norms[row];
     }
+    // Equal rows (four legs tied to one length, each with its stock limit) go to the solver
+    // once: repeated constraints break SLSQP's least-squares subproblem. Each working row maps
+    // to its representative.
+    std::vector<Eigen::Index> unique, representative(working.size());
+    for (std::size_t j = 0; j < working.size(); ++j) {
+      const Eigen::Index jj = static_cast<Eigen::Index>(j);
+      Eigen::Index found = -1;
+      for (std::size_t u = 0; u < unique.size() && found < 0; ++u) {
+        const Eigen::Index q = unique[u];
+        if (Ct.col(jj).dot(Ct.col(q)) > (1 - 1e-12) * Ct.col(jj).norm() * Ct.col(q).norm() &&
+            std::abs(p.d[jj] - p.d[q]) <= 1e-9 * (1 + std::abs(p.d[q]))) {
+          found = static_cast<Eigen::Index>(u);
+        }
+      }
+      if (found < 0) {
+        found = static_cast<Eigen::Index>(unique.size());
+        unique.push_back(jj);
+      }
+      representative[j] = found;
+    }
+    Eigen::MatrixXd Cu(k, static_cast<Eigen::Index>(unique.size()));
+    Eigen::VectorXd du(static_cast<Eigen::Index>(unique.size()));
+    for (std::size_t u = 0; u < unique.size(); ++u) {
+      Cu.col(static_cast<Eigen::Index>(u)) = Ct.col(unique[u]);
+      du[static_cast<Eigen::Index>(u)] = p.d[unique[u]];
+    }
     // The solver sees the problem in y = Lᵀz (H = L·Lᵀ): an identity Hessian, so SLSQP's
     // quasi-Newton model is exact from its first step and Ipopt's is trivially conditioned;
     // the rows and their multipliers are the same.
     p.H = Eigen::MatrixXd::Identity(k, k);
     p.g = L.solve(gs);
-    p.C = L.solve(Ct).transpose();
+    const Eigen::VectorXd d_all = p.d;
+    p.C = L.solve(Cu).transpose();
+    p.d = du;
     p.start = Eigen::VectorXd::Zero(k);
     qp::Settings s;
     s.backend = solver == QpSolver::kIpopt ? qp::Backend::kIpopt : qp::Backend::kSlsqp;
-    s.tolerance = std::min(1e-10, tol * 1e-3);
+    s.tolerance = 1e-10;
     const qp::Result res = qp::solve(p, s);
     out.used_solver = true;
     out.iterations += res.iterations;
@@ -266,6 +294,7 @@ ReducedSolution solve_reduced(const Eigen::MatrixXd& H,
     // solved again. Solvers stop within their tolerances; the polished point holds every row
     // to rounding. It is kept only if it is feasible.
     {
+      p.d = d_all;
       std::vector<Eigen::Index> act;
       const Eigen::VectorXd vs = Ct.transpose() * zs - p.d;
       for (std::size_t j = 0; j < working.size(); ++j) {
@@ -303,9 +332,9 @@ ReducedSolution solve_reduced(const Eigen::MatrixXd& H,
     for (Eigen::Index a = 0; a < k; ++a) z[vars[a]] = zs[a];
     out.active.clear();
     for (std::size_t j = 0; j < working.size(); ++j) {
-      if (res.multipliers.size() > static_cast<Eigen::Index>(j) &&
-          res.multipliers[static_cast<Eigen::Index>(j)] > 1e-9) {
-        out.active.emplace_back(working[j], res.multipliers[static_cast<Eigen::Index>(j)]);
+      const Eigen::Index u = representative[j];
+      if (res.multipliers.size() > u && res.multipliers[u] > 1e-9) {
+        out.active.emplace_back(working[j], res.multipliers[u]);
       }
     }
   }

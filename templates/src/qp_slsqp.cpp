@@ -49,7 +49,11 @@ Result solve_slsqp(const Problem& p, const Settings& s) {
   }
   nlopt_opt opt = nlopt_create(NLOPT_LD_SLSQP, n);
   Data data{&p};
-  data.scale = 1.0 / std::max(1e-12, p.H.cwiseAbs().maxCoeff());
+  // Both the curvature and the slope set the objective's scale (a heavily weighted target
+  // gives slopes of 1e7 at the start).
+  data.scale =
+      1.0 /
+      std::max({1e-12, p.H.cwiseAbs().maxCoeff(), p.g.size() ? p.g.cwiseAbs().maxCoeff() : 0.0});
   nlopt_set_min_objective(opt, objective, &data);
   const double scale = 1.0 + (p.d.size() ? p.d.cwiseAbs().maxCoeff() : 0.0);
   if (p.C.rows() > 0) {

@@ -234,3 +234,21 @@ TEST(Compose, RemovingAPartDropsItsConnectorsAndRelations) {
 
 }  // namespace
 }  // namespace fabkit::templates
+
+namespace fabkit::templates {
+namespace {
+
+TEST(Compose, ComposedModelStillNamesTheBindingConstraint) {
+  TableWithShelf c;
+  Template& t = c.wm.model();
+  const Manipulator m(t, {}, &db().catalog());
+  const DragResult r =
+      m.set(m.control(t.find_node_or_element("leg_fl"), ControlKind::kSizeZ), 5000);
+  EXPECT_FALSE(r.reached);
+  EXPECT_NEAR(r.achieved, 3658, 1e-3) << r.message;
+  EXPECT_NE(r.message.find("cannot be longer than 3658 mm"), std::string::npos) << r.message;
+  EXPECT_LT(t.max_violation(r.q), 1e-9);
+}
+
+}  // namespace
+}  // namespace fabkit::templates

@@ -57,7 +57,7 @@ struct ManipulateOptions {
   double alpha = 0.01;
   double placement_weight = 1.0;  ///< weight of connecting elements' soft placement
   double set_weight = 1e3;        ///< target weight of set() (refined: reached when feasible)
-  double tolerance_mm = 1e-7;     ///< constraint tolerance of the solution
+  double tolerance_mm = 1e-10;    ///< constraint tolerance of the solution, mm
   bool anchor = true;             ///< keep the root's centre (x, y) and its bottom (z) fixed
   QpSolver solver = QpSolver::kSlsqp;
 };
