@@ -73,8 +73,17 @@ PyDatabase bundled_db() {
 struct PyModel {
   PyDatabase db;
   ComposedModel composed;
+  // Kept between drags so a drag session keeps its factorisation (the browser workspace and a
+  // Python loop of drags pay the null space once); rebuilt when the structure changes.
+  std::shared_ptr<Manipulator> manipulator;
 
   Template& t() { return composed.model.model(); }
+  const Manipulator& manip() {
+    if (!manipulator)
+      manipulator = std::make_shared<Manipulator>(t(), ManipulateOptions{}, &db.get().catalog());
+    return *manipulator;
+  }
+  void changed() { manipulator.reset(); }
 
   NodeId node(const std::string& name) {
     const NodeId n = name.empty() ? t().root() : t().find_node_or_element(name);
@@ -246,12 +255,13 @@ void bind_templates(py::module_ m) {
       .def("remove",
            [](PyModel& pm, const std::string& name) {
              Diagnostics d;
+             pm.changed();
              if (!pm.composed.model.remove(name, d)) raise_diagnostics(d);
            })
       .def(
           "controls",
           [](PyModel& pm, const std::string& node) {
-            const Manipulator m(pm.t(), {}, &pm.db.get().catalog());
+            const Manipulator& m = pm.manip();
             py::dict out;
             for (const Control& c : m.controls(pm.node(node))) {
               py::dict x;
@@ -264,7 +274,7 @@ void bind_templates(py::module_ m) {
           py::arg("node") = "")
       .def("drag",
            [](PyModel& pm, const std::string& node, const std::string& control, double delta) {
-             const Manipulator m(pm.t(), {}, &pm.db.get().catalog());
+             const Manipulator& m = pm.manip();
              const DragResult r = m.drag(m.control(pm.node(node), control_of(control)), delta);
              if (r.diagnostics.has_errors()) raise_diagnostics(r.diagnostics);
              pm.t().q = r.q;
@@ -272,7 +282,7 @@ void bind_templates(py::module_ m) {
            })
       .def("set",
            [](PyModel& pm, const std::string& node, const std::string& control, double value) {
-             const Manipulator m(pm.t(), {}, &pm.db.get().catalog());
+             const Manipulator& m = pm.manip();
              const DragResult r = m.set(m.control(pm.node(node), control_of(control)), value);
              if (r.diagnostics.has_errors()) raise_diagnostics(r.diagnostics);
              pm.t().q = r.q;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fabkit/templates/database.h"
 #include "fabkit/templates/diagnostic_codes.h"
 #include "fabkit/templates/extract.h"
 #include "test_support.h"
@@ -140,6 +141,51 @@ TEST(Manipulate, SolversAgree) {
   EXPECT_TRUE(ra.used_solver);
   EXPECT_TRUE(rb.used_solver);
   EXPECT_LT((ra.q - rb.q).cwiseAbs().maxCoeff(), 1e-4) << ra.message << " / " << rb.message;
+}
+
+}  // namespace
+}  // namespace fabkit::templates
+
+namespace fabkit::templates {
+namespace {
+
+TEST(Manipulate, ResizingAShelfPatternAddsShelvesAndTheirScrews) {
+  // Paper Fig. 4: the bookshelf's three evenly spaced shelves are one pattern element; making
+  // it taller adds shelves at the same spacing, and the screw pattern holding them follows.
+  Template t = *TemplateDatabase::bundled().source_template("bookshelf");
+  const Manipulator m(t, {}, &ItemCatalog::bundled());
+  const NodeId shelves = t.find("shelves/shelf");
+  ASSERT_TRUE(shelves.valid());
+  auto count = [&](const Template& tt, const std::string& item, double min_z, double max_z) {
+    int n = 0;
+    for (const PlacedPart& p : tt.placed_parts()) {
+      n += p.item == item && p.box.center.z() > min_z && p.box.center.z() < max_z &&
+           p.role == PartRole::kPrincipal && p.box.size.x() > 700;
+    }
+    return n;
+  };
+  EXPECT_EQ(count(t, "PLY-BIRCH-18", 400, 1500), 3);
+  // From 858 mm (two spacings of 420 + one shelf) to 1278 mm: room for a fourth at 420 mm.
+  const DragResult r = m.set(m.control(shelves, ControlKind::kSizeZ), 1278);
+  ASSERT_TRUE(r.reached) << r.message;
+  EXPECT_LT(t.max_violation(r.q), 1e-9);
+  t.q = r.q;
+  std::vector<Box> boards;
+  int screws = 0;
+  for (const PlacedPart& p : t.placed_parts()) {
+    if (p.element == element_named(t, "shelf")) boards.push_back(p.box);
+    if (p.item == "SCR-4x50" && p.role == PartRole::kConnecting && p.box.center.z() > 400 &&
+        p.box.center.z() < 1800) {
+      ++screws;
+    }
+  }
+  ASSERT_EQ(boards.size(), 4u);
+  for (std::size_t i = 1; i < boards.size(); ++i) {
+    EXPECT_NEAR(boards[i].center.z() - boards[i - 1].center.z(), 420, 1e-6);
+    EXPECT_FALSE(boards[i].intersects(boards[i - 1], 1e-9));
+  }
+  // Two screws per shelf end, both sides: the screw patterns grew with the shelves.
+  EXPECT_EQ(screws, 2 * 2 * 4);
 }
 
 }  // namespace
