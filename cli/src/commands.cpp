@@ -33,6 +33,11 @@ std::span<const KitCommands> kits() {
                   "plan and an assembly order",
                   rods_check,
                   rods_build},
+      KitCommands{"templates",
+                  "furniture composed from a database of fabricable templates; build writes the "
+                  "bill of materials, cut diagrams and 3D model",
+                  templates_check,
+                  templates_build},
   };
   return kAll;
 }

@@ -73,6 +73,13 @@ struct PartsSettings {
 };
 int run_parts(const PartsSettings& settings);
 
+struct TemplatesSettings {
+  std::string action;  ///< "list" or "show"
+  std::string name;    ///< show: a template ("design" or "design/path")
+};
+/// `fabkit templates list | show NAME`: browse the bundled template database.
+int run_templates(const TemplatesSettings& settings);
+
 /// Prints one diagnostic to stderr ("file:line:col: error: ...").
 void print_diagnostic(const Diagnostic& d);
 void print_diagnostics(const Diagnostics& ds);

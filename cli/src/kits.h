@@ -44,5 +44,7 @@ struct BurnTestSettings {
   double finger_width_mm = 0;                ///< 0: 3 × thickness
 };
 int flatpack_burn_test(const BurnTestSettings& settings);
+int templates_check(const DesignInput& input);
+int templates_build(const DesignInput& input);
 
 }  // namespace fabkit::cli

@@ -122,6 +122,16 @@ int main(int argc, char** argv) {
   parts_cmd->add_option("name", parts.name, "part name");
   parts_cmd->add_option("--parts", parts.part_files, "extra part library file(s) (YAML)");
 
+  TemplatesSettings templates_settings;
+  CLI::App* templates_cmd =
+      app.add_subcommand("templates", "Browse the template database: list, or show DESIGN[/PATH]");
+  templates_cmd->require_subcommand(1);
+  CLI::App* templates_list = templates_cmd->add_subcommand("list", "List the source designs");
+  CLI::App* templates_show =
+      templates_cmd->add_subcommand("show", "Show one template: tree, items, controls, joints");
+  templates_show->add_option("name", templates_settings.name, "design or design/path/to/node")
+      ->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -134,6 +144,10 @@ int main(int argc, char** argv) {
   if (*demo_cmd) return run_demo(demo);
   if (*parts_cmd) return run_parts(parts);
   if (*burn_cmd) return flatpack_burn_test(burn);
+  if (*templates_cmd) {
+    templates_settings.action = *templates_list ? "list" : "show";
+    return run_templates(templates_settings);
+  }
   if (*run_cmd) {
     for (const std::string& extra : run_cmd->remaining()) script_args.push_back(extra);
     return run_python("run", script, script_args);

@@ -7,5 +7,6 @@ namespace fabkit::python {
 void bind_hacks(pybind11::module_ m);
 void bind_flatpack(pybind11::module_ m);
 void bind_rods(pybind11::module_ m);
+void bind_templates(pybind11::module_ m);
 
 }  // namespace fabkit::python

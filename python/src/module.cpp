@@ -52,4 +52,5 @@ PYBIND11_MODULE(_fabkit, m) {
   python::bind_hacks(m.def_submodule("hacks", "the FabHaL kit"));
   python::bind_flatpack(m.def_submodule("flatpack", "the flat-pack furniture kit"));
   python::bind_rods(m.def_submodule("rods", "the RodSteward kit"));
+  python::bind_templates(m.def_submodule("templates", "the design and fabrication by example kit"));
 }

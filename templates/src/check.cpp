@@ -1,0 +1,268 @@
+// Composing a model from its file, and checking it.
+#include "fabkit/templates/check.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+#include "fabkit/core/yaml_reader.h"
+#include "fabkit/templates/diagnostic_codes.h"
+#include "fabkit/templates/extract.h"
+#include "fabkit/templates/manipulate.h"
+
+namespace fabkit::templates {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Library diagnostics name no file; a model's steps give them their line.
+void append_at(Diagnostics& into, const Diagnostics& from, const SourceLocation& where) {
+  for (Diagnostic d : from) {
+    if (!d.where.known()) d.where = where;
+    into.add(std::move(d));
+  }
+}
+
+std::string vec_text(const Vec3& v) {
+  return fmt::format("[{:g}, {:g}, {:g}]", v.x(), v.y(), v.z());
+}
+
+std::optional<ElementId> element_by_name(const Template& t, std::string_view name) {
+  for (int e = 0; e < t.element_count(); ++e) {
+    if (t.element(ElementId(e)).name == name) return ElementId(e);
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> element_names(const Template& t) {
+  std::vector<std::string> out;
+  for (const Element& e : t.elements) out.push_back(e.name);
+  return out;
+}
+
+void set_control(ComposedModel& cm,
+                 NodeId node,
+                 ControlKind kind,
+                 double value,
+                 const SourceLocation& where,
+                 const ItemCatalog& catalog,
+                 std::string& outcome) {
+  Template& t = cm.model.model();
+  const Manipulator m(t, {}, &catalog);
+  const Control c = m.control(node, kind);
+  if (c.hidden) {
+    cm.diagnostics.error(
+        codes::kFixedControl,
+        fmt::format("{} of '{}' cannot change: the template's constraints fix it at {:g} mm",
+                    to_string(kind),
+                    t.node(node).name,
+                    c.value),
+        where);
+    return;
+  }
+  const DragResult r = m.set(c, value);
+  append_at(cm.diagnostics, r.diagnostics, where);
+  if (r.diagnostics.has_errors()) return;
+  t.q = r.q;
+  outcome += fmt::format("{}{} {:g} mm{}",
+                         outcome.empty() ? "" : "; ",
+                         to_string(kind),
+                         r.achieved,
+                         r.reached ? "" : fmt::format(" (asked {:g})", value));
+}
+
+}  // namespace
+
+ComposedModel compose_model(std::string_view yaml,
+                            std::string_view file,
+                            const TemplateDatabase& db,
+                            const CheckOptions& options) {
+  const auto start = Clock::now();
+  ComposedModel cm;
+  const auto kind = templates_file_kind(yaml, file, cm.diagnostics);
+  if (!kind) return cm;
+  if (*kind == TemplatesFileKind::kDesign) {
+    // A source design on its own: the model of that one template.
+    auto design = read_source_design(yaml, file, cm.diagnostics);
+    if (!design) return cm;
+    auto t = make_template(*design, &db.catalog(), cm.diagnostics);
+    if (!t) return cm;
+    cm.name = design->title;
+    cm.description = design->description;
+    cm.model = WorkingModel(design->name);
+    cm.model.add(*t, design->name, design->name, std::nullopt, cm.diagnostics);
+    cm.steps.push_back(
+        {fmt::format("design {}", design->name),
+         SourceLocation{std::string(file), 1, 1},
+         true,
+         fmt::format("{} parts, {} connections", t->part_count(), t->connections.size()),
+         std::nullopt,
+         std::nullopt});
+    cm.readable = !cm.diagnostics.has_errors_of(DiagnosticClass::kInput);
+    cm.milliseconds = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    return cm;
+  }
+  auto file_model = read_model_file(yaml, file, cm.diagnostics);
+  if (!file_model) return cm;
+  cm.name = file_model->name.empty() ? std::string(file) : file_model->name;
+  cm.description = file_model->description;
+  cm.friction = file_model->friction;
+  cm.model = WorkingModel("model");
+  bool failed = false;
+  for (std::size_t i = 0; i < file_model->steps.size(); ++i) {
+    const ModelStep& step = file_model->steps[i];
+    StepReport report;
+    report.where = step.where;
+    report.text =
+        fmt::format("add {} = {}{}", step.as, step.use, step.at ? " at " + vec_text(*step.at) : "");
+    Diagnostics found;
+    auto part = db.find(step.use, found);
+    append_at(cm.diagnostics, found, step.where);
+    if (!part) {
+      report.ok = false;
+      report.outcome = "unknown template";
+      cm.steps.push_back(std::move(report));
+      failed = true;
+      continue;
+    }
+    Diagnostics added;
+    auto comp = cm.model.add(*part, step.use, step.as, step.at, added);
+    append_at(cm.diagnostics, added, step.where);
+    if (!comp) {
+      report.ok = false;
+      cm.steps.push_back(std::move(report));
+      failed = true;
+      continue;
+    }
+    std::string outcome;
+    for (const auto& [k, v] : step.set) {
+      set_control(cm, comp->node, k, v, step.where, db.catalog(), outcome);
+    }
+    if (i > 0 && step.snap) {
+      SnapResult s = snap(cm.model, *comp, db, options.snap);
+      append_at(cm.diagnostics, s.diagnostics, step.where);
+      cm.model.model().q = s.q;
+      int from_source = 0;
+      for (const SnapConstraint& c : s.chosen) from_source += c.from_source;
+      outcome += fmt::format("{}snapped to {} plane{} ({} from {}, {} placements tried)",
+                             outcome.empty() ? "" : "; ",
+                             s.chosen.size(),
+                             s.chosen.size() == 1 ? "" : "s",
+                             from_source,
+                             part->elements.empty() ? "its design" : part->elements.front().source,
+                             s.combinations);
+      report.snap = std::move(s);
+    }
+    if (i > 0 && step.connect) {
+      ConnectResult c = connect(cm.model, *comp, db, options.connect);
+      append_at(cm.diagnostics, c.diagnostics, step.where);
+      int joined = 0;
+      std::vector<std::string> sources;
+      for (const Link& l : c.links) {
+        if (!l.connection) continue;
+        ++joined;
+        const Connection& conn = cm.model.model().connections[l.connection->value];
+        std::vector<std::string> items;
+        for (ElementId e : conn.connecting) items.push_back(cm.model.model().element(e).item);
+        std::sort(items.begin(), items.end());
+        items.erase(std::unique(items.begin(), items.end()), items.end());
+        const std::string s = fmt::format("{} from {}", fmt::join(items, " + "), conn.source);
+        if (std::find(sources.begin(), sources.end(), s) == sources.end()) sources.push_back(s);
+      }
+      outcome += fmt::format("{}connected {} of {} linked pair{}{}",
+                             outcome.empty() ? "" : "; ",
+                             joined,
+                             c.links.size(),
+                             c.links.size() == 1 ? "" : "s",
+                             sources.empty() ? "" : fmt::format(" ({})", fmt::join(sources, "; ")));
+      report.ok = !c.diagnostics.has_errors();
+      report.connect = std::move(c);
+    }
+    report.outcome = outcome.empty() ? fmt::format("{} parts", part->part_count()) : outcome;
+    cm.steps.push_back(std::move(report));
+  }
+  for (const Adjustment& a : file_model->adjust) {
+    const Template& t = cm.model.model();
+    const NodeId n = t.find_node_or_element(a.node);
+    if (!n.valid()) {
+      std::vector<std::string> names;
+      for (std::size_t i = 1; i < t.nodes.size(); ++i)
+        names.push_back(t.path(NodeId(static_cast<int>(i))));
+      cm.diagnostics.error(
+          codes::kUnknownName,
+          fmt::format("the model has no node '{}'{}", a.node, did_you_mean(a.node, names)),
+          a.where);
+      continue;
+    }
+    StepReport report;
+    report.where = a.where;
+    report.text = fmt::format("adjust {} {} to {:g} mm", a.node, to_string(a.control), a.value);
+    set_control(cm, n, a.control, a.value, a.where, db.catalog(), report.outcome);
+    cm.steps.push_back(std::move(report));
+  }
+  for (const LoadSpec& l : file_model->loads) {
+    const auto e = element_by_name(cm.model.model(), l.part);
+    if (!e) {
+      cm.diagnostics.error(codes::kUnknownName,
+                           fmt::format("a load names part '{}', which the model does not have{}",
+                                       l.part,
+                                       did_you_mean(l.part, element_names(cm.model.model()))),
+                           l.where);
+      continue;
+    }
+    cm.loads.push_back(Load{*e, l.at, l.force});
+  }
+  (void)failed;
+  cm.readable = !cm.diagnostics.has_errors_of(DiagnosticClass::kInput);
+  cm.milliseconds = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  return cm;
+}
+
+CheckResult check(const ComposedModel& cm,
+                  const TemplateDatabase& db,
+                  const CheckOptions& options) {
+  CheckResult out;
+  out.diagnostics.append(cm.diagnostics);
+  if (!cm.readable) {
+    out.verdict = "unreadable";
+    return out;
+  }
+  const Template& t = cm.model.model();
+  // Principal parts that interpenetrate cannot be built.
+  for (int a = 0; a < t.element_count(); ++a) {
+    if (!t.element(ElementId(a)).is_principal()) continue;
+    for (int b = a + 1; b < t.element_count(); ++b) {
+      if (!t.element(ElementId(b)).is_principal()) continue;
+      const Box ba = t.box(ElementId(a)), bb = t.box(ElementId(b));
+      if (!ba.intersects(bb, options.overlap_tolerance_mm)) continue;
+      out.diagnostics.error(codes::kPartsOverlap,
+                            fmt::format("'{}' and '{}' overlap by {:g} x {:g} x {:g} mm",
+                                        t.element(ElementId(a)).name,
+                                        t.element(ElementId(b)).name,
+                                        std::round(ba.overlap(bb, 0) * 10) / 10,
+                                        std::round(ba.overlap(bb, 1) * 10) / 10,
+                                        std::round(ba.overlap(bb, 2) * 10) / 10));
+    }
+  }
+  StabilityOptions so = options.stability;
+  so.friction = cm.friction;
+  so.loads = cm.loads;
+  out.stability = check_stability(t, db.catalog(), so);
+  out.diagnostics.append(out.stability.diagnostics);
+  Diagnostics bom_diags;
+  out.bom = bill_of_materials(t, db.catalog(), bom_diags, options.bom);
+  out.diagnostics.append(bom_diags);
+  if (out.diagnostics.has_errors_of(DiagnosticClass::kInfeasible)) {
+    out.verdict = "infeasible";
+  } else if (!out.stability.stable) {
+    out.verdict = "unstable";
+  } else if (out.diagnostics.has_errors()) {
+    out.verdict = "check failed";
+  } else {
+    out.verdict = "feasible";
+  }
+  return out;
+}
+
+}  // namespace fabkit::templates

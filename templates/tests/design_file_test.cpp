@@ -1,0 +1,182 @@
+// The kit's YAML files: every kind of bad input gets a diagnostic with file:line, never a crash.
+#include "fabkit/templates/design_file.h"
+
+#include <gtest/gtest.h>
+
+#include "fabkit/templates/check.h"
+#include "fabkit/templates/database.h"
+#include "fabkit/templates/diagnostic_codes.h"
+#include "fabkit/templates/extract.h"
+#include "test_support.h"
+
+namespace fabkit::templates {
+namespace {
+
+using testing::has_diagnostic;
+
+constexpr const char* kHeader = "fabkit: templates/1\n";
+
+int line_of(const Diagnostics& d, DiagnosticCode code) {
+  for (const Diagnostic& x : d) {
+    if (x.code == code) return x.where.line;
+  }
+  return -1;
+}
+
+TEST(DesignFile, ShorthandsExpandIntoParts) {
+  Diagnostics d;
+  const auto design =
+      read_source_design(std::string(kHeader) +
+                             "design: legs\n"
+                             "parts:\n"
+                             "  - name: leg\n"
+                             "    item: LUM-PINE-2x2\n"
+                             "    min: [100, 100, 0]\n"
+                             "    size: [38, 38, 700]\n"
+                             "    mirror: [x, y]\n"
+                             "    names: [a, b, c, d]\n"
+                             "  - {name: s, item: SCR-4x40, role: connecting, center: [0, 0, 0], "
+                             "size: [8, 8, 40], repeat: {count: [3, 1, 1], step: [20, 0, 0]}}\n",
+                         "legs.yaml",
+                         d);
+  ASSERT_TRUE(design) << d.format();
+  ASSERT_EQ(design->parts.size(), 7u);
+  EXPECT_EQ(design->find("d")->box.center, Vec3(-119, -119, 350));
+  EXPECT_EQ(design->find("s_3")->box.center, Vec3(40, 0, 0));
+  EXPECT_EQ(design->find("s_1")->role, PartRole::kConnecting);
+}
+
+TEST(DesignFile, BadDesignsNameLineAndValue) {
+  Diagnostics d;
+  EXPECT_FALSE(read_source_design(
+      std::string(kHeader) +
+          "design: x\n"
+          "parts:\n"
+          "  - {name: a, item: LUM-PINE-2x2, centre: [0, 0, 0], size: [38, 38, 100]}\n"
+          "  - {name: b, item: LUM-PINE-2x2, center: [0, 0, 0]}\n"
+          "  - {name: c, item: LUM-PINE-2x2, center: [0, 0, 0], size: [38, -38, 100]}\n"
+          "  - {name: e, item: X, role: glue, center: [0, 0, 0], size: [1, 1, 1]}\n"
+          "  - {name: e, item: X, center: [0, 0, 0], size: [1, 1, 1]}\n"
+          "articulations:\n"
+          "  - {name: door, type: slide, parts: [doorr], axis: q, limits: [0, 90]}\n",
+      "x.yaml",
+      d));
+  EXPECT_TRUE(has_diagnostic(
+      d, codes::kUnknownName, "unknown key 'centre' in a part; did you mean 'center'?"));
+  EXPECT_TRUE(has_diagnostic(d, codes::kMalformedInput, "a part's box is 'center' + 'size'"));
+  EXPECT_TRUE(has_diagnostic(d, codes::kInvalidValue, "size"));
+  EXPECT_TRUE(
+      has_diagnostic(d, codes::kInvalidValue, "role 'glue' must be principal or connecting"));
+  EXPECT_TRUE(has_diagnostic(d, codes::kDuplicateName, "part 'e' is defined twice"));
+  EXPECT_TRUE(has_diagnostic(
+      d, codes::kInvalidValue, "joint type 'slide' must be prismatic, hinge or ball"));
+  EXPECT_TRUE(has_diagnostic(d, codes::kInvalidValue, "axis 'q' must be x, y or z"));
+  EXPECT_TRUE(
+      has_diagnostic(d, codes::kUnknownName, "articulation 'door' moves unknown part 'doorr'"));
+  EXPECT_EQ(line_of(d, codes::kDuplicateName), 8);
+}
+
+TEST(DesignFile, ItemsMustMakeTheParts) {
+  Diagnostics d;
+  const auto design = read_source_design(
+      std::string(kHeader) +
+          "design: x\n"
+          "parts:\n"
+          "  - {name: a, item: LUM-PINE-2x4, center: [0, 0, 0], size: [40, 89, 500]}\n"
+          "  - {name: b, item: LUM-PINE-2x4, center: [0, 0, 600], size: [38, 89, 4000]}\n"
+          "  - {name: c, item: LUM-PINE-2x5, center: [0, 0, 900], size: [38, 89, 100]}\n",
+      "x.yaml",
+      d);
+  ASSERT_TRUE(design) << d.format();
+  EXPECT_FALSE(make_template(*design, &ItemCatalog::bundled(), d));
+  EXPECT_TRUE(
+      has_diagnostic(d,
+                     codes::kItemMismatch,
+                     "part 'a': a 40 x 89 x 500 mm piece cannot be made from item LUM-PINE-2x4"));
+  EXPECT_TRUE(has_diagnostic(d, codes::kItemMismatch, "part 'b': a 38 x 89 x 4000 mm piece"));
+  EXPECT_TRUE(has_diagnostic(
+      d, codes::kUnknownItem, "part 'c': unknown item 'LUM-PINE-2x5'; did you mean 'LUM-PINE-2x"));
+  EXPECT_EQ(line_of(d, codes::kUnknownItem), 6);
+}
+
+TEST(DesignFile, HingeRestPosesMustBeQuarterTurns) {
+  Diagnostics d;
+  const auto design = read_source_design(
+      std::string(kHeader) +
+          "design: x\n"
+          "parts:\n"
+          "  - {name: door, item: PLY-BIRCH-18, center: [0, 0, 400], size: [600, 18, 800]}\n"
+          "articulations:\n"
+          "  - {name: hinge, type: hinge, parts: [door], axis: z, pivot: [-300, 0, 0], limits: [0, "
+          "110]}\n",
+      "x.yaml",
+      d);
+  ASSERT_TRUE(design);
+  ASSERT_TRUE(make_template(*design, &ItemCatalog::bundled(), d));
+  EXPECT_TRUE(has_diagnostic(
+      d, codes::kInvalidValue, "the rest poses differ by 110°, not a multiple of 90°"));
+}
+
+TEST(ModelFile, BadModelsNameLineAndValue) {
+  Diagnostics d;
+  EXPECT_FALSE(read_model_file(std::string(kHeader) +
+                                   "model:\n"
+                                   "  - {use: dining_table, as: t, set: {width: 5}}\n"
+                                   "  - {use: bench, as: t}\n"
+                                   "adjust:\n"
+                                   "  - {node: t, control: size_x}\n"
+                                   "loads:\n"
+                                   "  - {part: top, at: [0, 0, 0], force: [0, 0, .nan]}\n"
+                                   "frction: 0.4\n",
+                               "m.yaml",
+                               d));
+  EXPECT_TRUE(has_diagnostic(d, codes::kUnknownName, "unknown control 'width'"));
+  EXPECT_TRUE(has_diagnostic(d, codes::kDuplicateName, "'t' is already in the model"));
+  EXPECT_TRUE(has_diagnostic(d, codes::kMalformedInput, "an adjustment needs 'to'"));
+  EXPECT_TRUE(has_diagnostic(d, codes::kInvalidValue, "not a finite number"));
+  EXPECT_TRUE(has_diagnostic(
+      d, codes::kUnknownName, "unknown key 'frction' in a model; did you mean 'friction'?"));
+  EXPECT_EQ(line_of(d, codes::kDuplicateName), 4);
+}
+
+TEST(ModelFile, ComposingReportsUnknownTemplatesNodesAndParts) {
+  const ComposedModel cm = compose_model(std::string(kHeader) +
+                                             "model:\n"
+                                             "  - {use: dining_table, as: table}\n"
+                                             "  - {use: bookshelf/shelvs, as: shelf}\n"
+                                             "adjust:\n"
+                                             "  - {node: tabel, control: size_x, to: 1200}\n"
+                                             "  - {node: top, control: size_z, to: 40}\n"
+                                             "loads:\n"
+                                             "  - {part: tpo, at: [0, 0, 0], force: [0, 0, -10]}\n",
+                                         "m.yaml",
+                                         TemplateDatabase::bundled());
+  EXPECT_FALSE(cm.readable);
+  EXPECT_TRUE(has_diagnostic(cm.diagnostics,
+                             codes::kUnknownTemplate,
+                             "design 'bookshelf' has no node 'shelvs'; did you mean 'shelves'?"));
+  EXPECT_EQ(line_of(cm.diagnostics, codes::kUnknownTemplate), 4);
+  EXPECT_TRUE(has_diagnostic(
+      cm.diagnostics, codes::kUnknownName, "the model has no node 'tabel'; did you mean 'table'?"));
+  EXPECT_TRUE(
+      has_diagnostic(cm.diagnostics, codes::kFixedControl, "size_z of 'top' cannot change"));
+  EXPECT_TRUE(has_diagnostic(
+      cm.diagnostics,
+      codes::kUnknownName,
+      "a load names part 'tpo', which the model does not have; did you mean 'top'?"));
+}
+
+TEST(ModelFile, NotYamlOrNotTemplates) {
+  Diagnostics d;
+  EXPECT_FALSE(templates_file_kind("fabkit: hacks/1\nparts: []\n", "h.yaml", d));
+  EXPECT_TRUE(has_diagnostic(d, codes::kUnknownKit, "unknown kit 'hacks/1'"));
+  Diagnostics d2;
+  EXPECT_FALSE(templates_file_kind(std::string(kHeader) + "name: x\n", "x.yaml", d2));
+  EXPECT_TRUE(has_diagnostic(d2, codes::kMalformedInput, "needs 'model:'"));
+  Diagnostics d3;
+  EXPECT_FALSE(read_model_file("fabkit: templates/1\nmodel: [\n", "x.yaml", d3));
+  EXPECT_TRUE(has_diagnostic(d3, codes::kMalformedInput, "YAML syntax error"));
+}
+
+}  // namespace
+}  // namespace fabkit::templates
