@@ -19,7 +19,7 @@
 namespace fabkit::cli {
 
 std::span<const KitCommands> kits() {
-  static constexpr std::array<KitCommands, 2> kAll = {
+  static constexpr std::array<KitCommands, 4> kAll = {
       KitCommands{"hacks",
                   "fixture hacks from everyday parts (FabHaL); build solves and exports",
                   hacks_check,

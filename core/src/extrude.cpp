@@ -61,16 +61,6 @@ void mark_domains(Cdt& cdt) {
 
 }  // namespace
 
-double signed_area(const Ring2& ring) {
-  double a = 0;
-  for (std::size_t i = 0; i < ring.size(); ++i) {
-    const auto& p = ring[i];
-    const auto& q = ring[(i + 1) % ring.size()];
-    a += p.x() * q.y() - q.x() * p.y();
-  }
-  return a / 2;
-}
-
 TriangleMesh extrude_rings(std::span<const Ring2> rings, double z0, double z1) {
   Cdt cdt;
   for (const Ring2& ring : rings) {
