@@ -139,7 +139,7 @@ try {
     assert(verdict === 'STABLE', `verdict ${verdict}`);
     const err = await page.getByTestId('target-error').textContent();
     assert(err.includes(expectedError), `target error "${err}" vs API "${expectedError}"`);
-    assert(expectedError.startsWith('18.0 mm, 0.0'), `API error ${expectedError}`);
+    assert(expectedError.startsWith('4.2 mm, 0.1'), `API error ${expectedError}`);
   });
 
   await test('e connection-tree', async () => {
