@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "convex_pieces.h"
 #include "fabkit/core/text.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 #include "fabkit/hacks/part.h"
@@ -16,6 +17,11 @@ constexpr NumberRange kCoordinate{-kMaxCoordinateMm, kMaxCoordinateMm, "mm"};
 struct ShapeReader {
   YamlReader& in;
   std::string who;
+  // Where the shapes' convex pieces go (contact queries), if anywhere.
+  std::vector<TriangleMesh>* pieces = nullptr;
+  void piece(const TriangleMesh& m) {
+    if (pieces) pieces->push_back(m);
+  }
 
   std::optional<int> segments(const YAML::Node& n, const char* key, int fallback) {
     const YAML::Node s = n[key];
@@ -56,7 +62,9 @@ struct ShapeReader {
       bool ok = s.has_value();
       const Mat4 m = frame_of(n, ok);
       if (!ok) return std::nullopt;
-      return shapes::box(*s).transformed(m);
+      TriangleMesh out = shapes::box(*s).transformed(m);
+      piece(out);
+      return out;
     }
     in.check_keys(n, {"min", "max"}, who);
     auto lo = point(n, "min");
@@ -69,7 +77,9 @@ struct ShapeReader {
       return std::nullopt;
     }
     const Vec3 c = 0.5 * (*lo + *hi);
-    return shapes::box(*hi - *lo).transformed(translation(c.x(), c.y(), c.z()));
+    TriangleMesh out = shapes::box(*hi - *lo).transformed(translation(c.x(), c.y(), c.z()));
+    piece(out);
+    return out;
   }
 
   std::optional<TriangleMesh> cylinder(const YAML::Node& n) {
@@ -89,7 +99,9 @@ struct ShapeReader {
     m.topLeftCorner<3, 3>() =
         Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), d).normalized().toRotationMatrix();
     m.topRightCorner<3, 1>() = 0.5 * (*a + *b);
-    return shapes::cylinder(*r, d.norm(), *seg).transformed(m);
+    TriangleMesh out = shapes::cylinder(*r, d.norm(), *seg).transformed(m);
+    piece(out);
+    return out;
   }
 
   // Open-topped box (basket, tray, caddy): a floor of `floor` thickness and four walls.
@@ -109,9 +121,11 @@ struct ShapeReader {
                in.at(n));
       return std::nullopt;
     }
-    auto between = [](const Vec3& a, const Vec3& b) {
+    auto between = [&](const Vec3& a, const Vec3& b) {
       const Vec3 c = 0.5 * (a + b);
-      return shapes::box(b - a).transformed(translation(c.x(), c.y(), c.z()));
+      TriangleMesh out = shapes::box(b - a).transformed(translation(c.x(), c.y(), c.z()));
+      piece(out);
+      return out;
     };
     const Vec3& l = *lo;
     const Vec3& h = *hi;
@@ -132,7 +146,9 @@ struct ShapeReader {
     bool ok = r && seg;
     const Mat4 m = frame_of(n, ok);
     if (!ok) return std::nullopt;
-    return shapes::sphere(*r, *seg).transformed(m);
+    TriangleMesh out = shapes::sphere(*r, *seg).transformed(m);
+    piece(out);
+    return out;
   }
 
   std::optional<TriangleMesh> torus_arc(const YAML::Node& n) {
@@ -160,12 +176,18 @@ struct ShapeReader {
                in.at(n));
       return std::nullopt;
     }
+    if (pieces) {
+      std::vector<TriangleMesh> arc_parts = detail::arc_pieces(*arc, *wire, *angle);
+      detail::transform_pieces(arc_parts, m);
+      for (const TriangleMesh& a : arc_parts) piece(a);
+    }
     return shapes::torus_arc(*arc, *wire, *angle, *seg, *wseg).transformed(m);
   }
 
   std::optional<TriangleMesh> primitive(const YAML::Node& n) {
     auto p = read_primitive_spec(in, n, "", who);
     if (!p) return std::nullopt;
+    for (const TriangleMesh& m : primitive_pieces(*p)) piece(m);
     return primitive_mesh(*p);
   }
 };
@@ -174,7 +196,8 @@ struct ShapeReader {
 
 std::optional<TriangleMesh> read_body(YamlReader& in,
                                       const YAML::Node& body,
-                                      std::string_view owner) {
+                                      std::string_view owner,
+                                      std::vector<TriangleMesh>* pieces) {
   if (!in.is_list(body, fmt::format("body of part {}", owner))) return std::nullopt;
   const int before = in.errors();
   TriangleMesh mesh;
@@ -192,7 +215,7 @@ std::optional<TriangleMesh> read_body(YamlReader& in,
     }
     const auto kv = *item.begin();
     const std::string kind = kv.first.Scalar();
-    ShapeReader r{in, fmt::format("{} body {} ({})", owner, index, kind)};
+    ShapeReader r{in, fmt::format("{} body {} ({})", owner, index, kind), pieces};
     std::optional<TriangleMesh> m;
     if (!kv.second.IsMap()) {
       in.error(

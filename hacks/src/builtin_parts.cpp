@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "builtin_parts_data.h"
+#include "convex_pieces.h"
 #include "fabkit/hacks/parts_library.h"
 
 namespace fabkit::hacks {
@@ -49,6 +50,20 @@ Primitive closed(Primitive p) {  // [is_open=False]: also closed for connecting
 // ---------------------------------------------------------------------------------------------
 // Mesh helpers.
 
+// A body being drawn: its display mesh and its convex pieces (contact queries).
+struct Shaped {
+  TriangleMesh mesh;
+  std::vector<TriangleMesh> pieces;
+  void add_convex(const TriangleMesh& m) {
+    mesh.append(m);
+    pieces.push_back(m);
+  }
+  void add(const TriangleMesh& m, std::vector<TriangleMesh> convex_parts) {
+    mesh.append(m);
+    for (TriangleMesh& c : convex_parts) pieces.push_back(std::move(c));
+  }
+};
+
 // Cylinder of `radius` whose axis runs from a to b.
 TriangleMesh cylinder_between(const Vec3& a, const Vec3& b, double radius, int segments = 16) {
   const Vec3 d = b - a;
@@ -76,18 +91,27 @@ Vec3 hook_end_near(const Primitive& h, const Vec3& target) {
 
 // The wire of a hook continued from θ = from to θ = to (e.g. a hanger hook running into its
 // neck): a torus arc in the hook's frame rotated to start at `from`.
-TriangleMesh hook_extension(const Primitive& h, double from, double to) {
-  return shapes::torus_arc(h.shape.arc_radius, h.shape.thickness, to - from, 16)
-      .transformed(h.frame.matrix() * rot_x(-from));
+void add_hook_extension(Shaped& out, const Primitive& h, double from, double to) {
+  const Mat4 m = h.frame.matrix() * rot_x(-from);
+  std::vector<TriangleMesh> parts =
+      detail::arc_pieces(h.shape.arc_radius, h.shape.thickness, to - from);
+  detail::transform_pieces(parts, m);
+  out.add(shapes::torus_arc(h.shape.arc_radius, h.shape.thickness, to - from, 16).transformed(m),
+          std::move(parts));
 }
 
 // The part: primitives at their frames, the body mesh plus the primitives' meshes, the table
 // mass and the mesh centroid as the centre of mass.
-Part assemble(std::vector<Primitive> prims, TriangleMesh body, double mass) {
+Part assemble(std::vector<Primitive> prims, Shaped body, double mass) {
   Part p;
   p.primitives = std::move(prims);
-  p.mesh = std::move(body);
-  for (const Primitive& prim : p.primitives) p.mesh.append(primitive_mesh(prim));
+  p.mesh = std::move(body.mesh);
+  p.collision_pieces = std::move(body.pieces);
+  p.collision_tags.assign(p.collision_pieces.size(), -1);
+  for (std::size_t i = 0; i < p.primitives.size(); ++i) {
+    p.mesh.append(primitive_mesh(p.primitives[i]));
+    add_primitive_pieces(p, static_cast<int>(i));
+  }
   p.mass = mass;
   p.center_of_mass = p.mesh.centroid();
   return p;
@@ -95,32 +119,32 @@ Part assemble(std::vector<Primitive> prims, TriangleMesh body, double mass) {
 
 // A turnbuckle body along y (55 mm long, two side bars and two threaded bosses) with a screw
 // from each boss to its hook's nearer end.
-TriangleMesh turnbuckle_body(const Primitive& hook1, const Primitive& hook2) {
-  TriangleMesh m;
-  for (double x : {-4.5, 4.5}) m.append(cylinder_between({x, -22, 0}, {x, 22, 0}, 1.5, 10));
+Shaped turnbuckle_body(const Primitive& hook1, const Primitive& hook2) {
+  Shaped m;
+  for (double x : {-4.5, 4.5}) m.add_convex(cylinder_between({x, -22, 0}, {x, 22, 0}, 1.5, 10));
   for (double s : {-1.0, 1.0}) {
-    m.append(cylinder_between({0, s * 21.5, 0}, {0, s * 27.5, 0}, 3.5, 12));  // boss
+    m.add_convex(cylinder_between({0, s * 21.5, 0}, {0, s * 27.5, 0}, 3.5, 12));  // boss
     const Primitive& h = s > 0 ? hook1 : hook2;
     const Vec3 inside(0, s * 20.0, 0);
-    m.append(cylinder_between(inside, hook_end_near(h, inside), 2.0, 10));  // M4 screw
+    m.add_convex(cylinder_between(inside, hook_end_near(h, inside), 2.0, 10));  // M4 screw
   }
   return m;
 }
 
 // Wire coat hanger: the top hook's wire runs on from θ 180 to 270 into a neck that meets the
 // shoulders at `apex`; the shoulders end at the upper ends of the two bend hooks.
-TriangleMesh hanger_body(const Primitive& top,
-                         const Primitive& bend_a,
-                         const Primitive& bend_b,
-                         const Vec3& apex,
-                         double wire_radius) {
-  TriangleMesh m;
-  m.append(hook_extension(top, 180, 270));
-  m.append(cylinder_between(hook_point(top, 270), apex, wire_radius, 10));
+Shaped hanger_body(const Primitive& top,
+                   const Primitive& bend_a,
+                   const Primitive& bend_b,
+                   const Vec3& apex,
+                   double wire_radius) {
+  Shaped m;
+  add_hook_extension(m, top, 180, 270);
+  m.add_convex(cylinder_between(hook_point(top, 270), apex, wire_radius, 10));
   for (const Primitive* b : {&bend_a, &bend_b}) {
     const Vec3 p0 = hook_point(*b, 0);
     const Vec3 p1 = hook_point(*b, b->shape.arc_angle);
-    m.append(cylinder_between(apex, p0.z() > p1.z() ? p0 : p1, wire_radius, 10));
+    m.add_convex(cylinder_between(apex, p0.z() > p1.z() ? p0 : p1, wire_radius, 10));
   }
   return m;
 }
@@ -169,7 +193,7 @@ Part param_hanger_geometry(const ParamValues& v) {
     drawable = drawable && !d.has_errors();
   }
   if (drawable) {
-    p.mesh = hanger_body(h1, h2, h3, {0, 0, -110 + v.at("height")}, bar_r);
+    Shaped body = hanger_body(h1, h2, h3, {0, 0, -110 + v.at("height")}, bar_r);
     // `length` is the hanger's width: the shoulder wire runs on past each bend to a flat tip at
     // ±length/2.
     for (const Primitive* b : {&h2, &h3}) {
@@ -179,10 +203,16 @@ Part param_hanger_geometry(const ParamValues& v) {
       const double side = b->frame.pos.y() >= 0 ? 1.0 : -1.0;
       const Vec3 tip(0, side * v.at("length") / 2, upper.z());
       if (side * (tip.y() - upper.y()) > 1e-9) {
-        p.mesh.append(cylinder_between(upper, tip, bar_r, 10));
+        body.add_convex(cylinder_between(upper, tip, bar_r, 10));
       }
     }
-    for (const Primitive& prim : p.primitives) p.mesh.append(primitive_mesh(prim));
+    p.mesh = std::move(body.mesh);
+    p.collision_pieces = std::move(body.pieces);
+    p.collision_tags.assign(p.collision_pieces.size(), -1);
+    for (std::size_t i = 0; i < p.primitives.size(); ++i) {
+      p.mesh.append(primitive_mesh(p.primitives[i]));
+      add_primitive_pieces(p, static_cast<int>(i));
+    }
     p.center_of_mass = p.mesh.centroid();
   }
   return p;

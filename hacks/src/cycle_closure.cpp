@@ -237,7 +237,7 @@ ClosureResult close_cycles(const Assembly& assembly,
   ClosureResult result;
   result.x = x0;
   const std::size_t m = layout.variables.size();
-  auto* functor = new ClosureCost{&assembly, &layout, x0};
+  auto* functor = new ClosureCost{&assembly, &layout, x0, 1.0, {}};
   result.cost = cost_at(*functor, [&] {
     std::vector<double> z;
     for (int v : layout.variables) z.push_back(x0[static_cast<std::size_t>(v)]);

@@ -21,6 +21,7 @@ std::span<const DiagnosticCode> hacks_codes() {
                                       codes::kTargetMissing,
                                       codes::kNotConnected,
                                       codes::kNotAtRest,
+                                      codes::kPartsOverlap,
                                       codes::kFallsApart};
   return kAll;
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "constraints.h"
+#include "contacts.h"
 #include "cycle_closure.h"
 #include "fabkit/core/solvers/manifold_solver.h"
 #include "fabkit/hacks/assembly.h"
@@ -34,6 +35,10 @@ struct Problem {
   /// Groups hang from fixed parts independently, so each is solved on its own.
   int group = -1;
   std::vector<int> part_group;  // per part; -1 for environments
+  /// Contacts: every part's collision body (shared by the problems of one solve) and the piece
+  /// pairs kept apart, one inequality row each (−distance ≤ 0). None: parts may overlap.
+  std::shared_ptr<const ContactModel> contacts;
+  std::vector<PiecePair> watched;
   /// Whether connection `c` moves parts of this problem's group.
   bool covers(const Assembly& a, ConnectionId c) const;
 };
@@ -95,9 +100,11 @@ struct ManifoldCost {
   int equality_count() const {
     return closure_equality_count() + (holds_target() ? kTargetResiduals : 0);
   }
-  int residual_count() const {
+  int contact_row() const {
     return objective_count() + equality_count() + static_cast<int>(problem->multi.size());
   }
+  // The contact rows come last; the analytic evaluator fills them (FCL, not templated).
+  int residual_count() const { return contact_row() + static_cast<int>(problem->watched.size()); }
 
   template <class T>
   bool operator()(T const* const* params, T* out) const {
@@ -168,10 +175,12 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     rows_ = cost_.residual_count();
     // Parts below each tree connection (the child and its descendants).
     below_.resize(a.connections().size());
+    is_below_.assign(a.connections().size(), std::vector<char>(a.nodes().size(), 0));
     for (int q = 0; q < a.part_count(); ++q) {
       PartId id{q};
       while (a.parent(id).valid()) {
         below_[static_cast<std::size_t>(a.parent(id).value)].push_back(q);
+        is_below_[static_cast<std::size_t>(a.parent(id).value)][static_cast<std::size_t>(q)] = 1;
         id = a.connection(a.parent(id)).first.part;
       }
     }
@@ -196,6 +205,10 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
   int objectives() const override { return cost_.objective_count(); }
   int equalities() const override { return cost_.equality_count(); }
   int inequalities() const override { return rows_ - objectives() - equalities(); }
+  /// Contact rows (the last inequalities) are flat where they bind: see ManifoldProblem.
+  bool flat_inequality(int i) const override {
+    return i >= static_cast<int>(problem_.multi.size());
+  }
   /// The closures' minimal orientation residuals also vanish at a half turn: refuse those.
   bool acceptable(const double* z) override {
     if (problem_.closures.empty()) return true;
@@ -235,6 +248,33 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
       cf.push_back({f1, f2, conn.first.part.value, conn.second.part.value});
     }
     const int no = cost_.objective_count();
+    // Contact rows: −signed distance of each watched pair; pairs whose bounds are apart by
+    // more than kFar need no exact query (their row is far from binding and its slope unused).
+    constexpr double kFar = 2.0;
+    struct Near {
+      std::size_t row;
+      const PiecePair* pair;
+      collision::Proximity at;
+    };
+    std::vector<Near> near;
+    if (!problem_.watched.empty()) {
+      std::vector<Mat4> mats;
+      mats.reserve(frames.size());
+      for (const Rigid<double>& f : frames) mats.push_back(f.matrix());
+      const int first = cost_.contact_row();
+      for (std::size_t i = 0; i < problem_.watched.size(); ++i) {
+        const PiecePair& w = problem_.watched[i];
+        const std::size_t row = static_cast<std::size_t>(first) + i;
+        const double gap = problem_.contacts->gap_bound(w, mats);
+        if (gap > kFar) {
+          values_[row] = -gap;
+          continue;
+        }
+        const collision::Proximity at = problem_.contacts->distance(w, mats);
+        values_[row] = -at.distance;
+        near.push_back({row, &w, at});
+      }
+    }
     std::optional<Rigid<double>> target_frame;
     // Where the target's rows are: the objective (step 1) or after the closures (held).
     const int target_row =
@@ -261,9 +301,8 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
         // Tree connection: the child and everything below it turn by ±spatial.
         const Twist tau = slot.first ? spatial : -spatial;
         const std::vector<int>& moving = below_[static_cast<std::size_t>(slot.connection)];
-        auto moves = [&](int part) {
-          return std::find(moving.begin(), moving.end(), part) != moving.end();
-        };
+        const std::vector<char>& below = is_below_[static_cast<std::size_t>(slot.connection)];
+        auto moves = [&](int part) { return below[static_cast<std::size_t>(part)] != 0; };
         // Objective rows.
         if (objective_ != Objective::kTarget) {
           double dz = 0;
@@ -286,6 +325,13 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
           const Twist t1 = moves(cf[i].part1) ? tau : Twist{};
           const Twist t2 = moves(cf[i].part2) ? tau : Twist{};
           row = closure_derivative(i, cf[i].f1, cf[i].f2, t1, t2, row, put);
+        }
+        // Contact rows: d(−distance) = −n·(v_b(p_b) − v_a(p_a)).
+        for (const Near& touch : near) {
+          const PiecePair& w = *touch.pair;
+          const Vec3 va = moves(w.part_a) ? tau.velocity(touch.at.point_a) : Vec3::Zero();
+          const Vec3 vb = moves(w.part_b) ? tau.velocity(touch.at.point_b) : Vec3::Zero();
+          put(static_cast<int>(touch.row), -touch.at.normal.dot(vb - va));
         }
       } else {
         // A cycle-closing connection's own parameter moves only its connector frame.
@@ -414,6 +460,7 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
   int n_;
   int rows_ = 0;
   std::vector<std::vector<int>> below_;
+  std::vector<std::vector<char>> is_below_;  // [connection][part]: part is below it
   std::vector<Slot> slots_;
   std::vector<double> last_, values_, jacobian_;
 };

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <optional>
 
+#include "convex_pieces.h"
+
 namespace fabkit::hacks {
 namespace {
 
@@ -119,6 +121,57 @@ TriangleMesh primitive_mesh(const Primitive& p) {
   return local;
 }
 
+std::vector<TriangleMesh> primitive_pieces(const Primitive& p) {
+  if (!drawable(p)) return {};
+  const PrimitiveShape& s = p.shape;
+  std::vector<TriangleMesh> pieces;
+  switch (p.type) {
+    case PrimitiveType::kHook:
+      pieces = detail::arc_pieces(s.arc_radius, s.thickness, s.arc_angle);
+      break;
+    case PrimitiveType::kRing:
+      pieces = detail::arc_pieces(s.arc_radius, s.thickness, 360.0);
+      break;
+    case PrimitiveType::kTube:
+      pieces = detail::tube_pieces(s.inner_radius, s.inner_radius + s.thickness, s.length);
+      break;
+    case PrimitiveType::kClip: {
+      // The two jaw plates are boxes; clip_local_mesh appends them one after the other.
+      const TriangleMesh both = clip_local_mesh(s);
+      const std::size_t half = both.vertices.size() / 2;
+      for (int k = 0; k < 2; ++k) {
+        TriangleMesh plate;
+        plate.vertices.assign(both.vertices.begin() + static_cast<std::ptrdiff_t>(k * half),
+                              both.vertices.begin() + static_cast<std::ptrdiff_t>((k + 1) * half));
+        for (const Eigen::Vector3i& f : both.faces) {
+          if (static_cast<std::size_t>(f.minCoeff()) / half == static_cast<std::size_t>(k)) {
+            plate.faces.push_back(f.array() - static_cast<int>(k * half));
+          }
+        }
+        pieces.push_back(std::move(plate));
+      }
+      break;
+    }
+    case PrimitiveType::kRod:
+    case PrimitiveType::kEdge:
+    case PrimitiveType::kSurface:
+    case PrimitiveType::kHemisphere: {
+      // Convex already (the mesh, in part coordinates).
+      return {primitive_mesh(p)};
+    }
+  }
+  detail::transform_pieces(pieces, p.frame.matrix());
+  return pieces;
+}
+
+void add_primitive_pieces(Part& part, int index) {
+  for (TriangleMesh& piece :
+       primitive_pieces(part.primitives.at(static_cast<std::size_t>(index)))) {
+    part.collision_pieces.push_back(std::move(piece));
+    part.collision_tags.push_back(index);
+  }
+}
+
 Part make_primitive_part(std::vector<Primitive> primitives) {
   Part part;
   part.type_name = "Environment";
@@ -126,7 +179,10 @@ Part make_primitive_part(std::vector<Primitive> primitives) {
   part.category = PartCategory::kEnvironment;
   part.primitives = std::move(primitives);
   part.mass = 0;
-  for (const Primitive& p : part.primitives) part.mesh.append(primitive_mesh(p));
+  for (std::size_t i = 0; i < part.primitives.size(); ++i) {
+    part.mesh.append(primitive_mesh(part.primitives[i]));
+    add_primitive_pieces(part, static_cast<int>(i));
+  }
   part.center_of_mass = part.mesh.empty() ? Vec3::Zero() : part.mesh.centroid();
   return part;
 }

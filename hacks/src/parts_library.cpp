@@ -219,7 +219,21 @@ class PartFileReader {
     }
     if (const YAML::Node bn = node["body"]) {
       if (!mesh_where) mesh_where = in_.at(bn);
-      if (auto body = read_body(in_, bn, who)) part.mesh.append(*body);
+      std::vector<TriangleMesh> pieces;
+      if (auto body = read_body(in_, bn, who, &pieces)) {
+        part.mesh.append(*body);
+        for (TriangleMesh& piece : pieces) {
+          part.collision_pieces.push_back(std::move(piece));
+          part.collision_tags.push_back(-1);
+        }
+      }
+    }
+    // With a body, or with nothing but its connectors, the object's shape is known (its
+    // connectors are part of it); a scanned mesh alone gives no convex pieces.
+    if (node["body"] || !node["mesh"]) {
+      for (std::size_t i = 0; i < part.primitives.size(); ++i) {
+        add_primitive_pieces(part, static_cast<int>(i));
+      }
     }
     // The primitives are drawn too, unless a scanned mesh already shows them.
     bool draw_primitives = !node["mesh"];

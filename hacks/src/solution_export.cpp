@@ -74,7 +74,14 @@ std::string result_json(const Assembly& assembly,
   for (const NeutralDirection& n : r.neutral_directions) {
     neutral.push_back({{"parameters", n.parameters}, {"description", n.description}});
   }
+  ordered_json contacts = ordered_json::array();
+  for (const PartContact& c : r.contacts) {
+    contacts.push_back(
+        {{"parts", {c.part_a, c.part_b}}, {"distance_mm", std::round(c.distance_mm * 1e4) / 1e4}});
+  }
+  j["contacts"] = contacts;
   j["checks"] = {{"max_connection_gap_mm", r.max_gap_mm},
+                 {"max_penetration_mm", std::round(r.max_penetration_mm * 1e4) / 1e4},
                  {"max_connection_gap_deg", r.max_gap_deg},
                  {"equilibrium_residual", r.equilibrium_residual},
                  {"smallest_curvature", r.smallest_curvature},

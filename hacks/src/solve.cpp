@@ -105,10 +105,14 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   const int groups = group_count(assembly);
   const int target_group = whole.target ? whole.part_group[whole.target->part.index()] : -1;
 
+  // Parts may touch but not pass through each other: their collision bodies, once.
+  const auto contacts = std::make_shared<const ContactModel>(assembly);
+
   // Step 1.
   announce("step1");
   auto t1 = Clock::now();
-  const Problem steered = make_problem(assembly, target_group);
+  Problem steered = make_problem(assembly, target_group);
+  steered.contacts = contacts;
   const Step1Result step1 = run_step1(whole.target ? steered : whole, options);
   result.timings.push_back({"step1", ms_since(t1)});
   result.step1_parameters = step1.x;
@@ -130,9 +134,11 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     StepResult step;
     StabilityReport verdict;
     bool movable = false;  // it has variables and mass
+    double overlap = 0;    // deepest interpenetration of its parts, mm
   };
-  auto relax_and_judge = [&](const Problem& problem, std::vector<double> x0) {
+  auto relax_and_judge = [&](Problem problem, std::vector<double> x0) {
     GroupOutcome out;
+    problem.contacts = contacts;
     const Variables vars = select_variables(assembly, /*physics=*/true, &problem);
     out.movable = !vars.index.empty() && problem.total_mass > 0;
     if (options.relax) {
@@ -145,7 +151,9 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
       if (assembly.parameters()[i].spec.tag == ParamTag::kUnbounded) x0[i] = wrap_360(x0[i]);
     }
     out.x = std::move(x0);
+    if (!options.relax) watch_contacts(problem, out.x);
     out.verdict = check_stability(problem, vars, out.x, options);
+    out.overlap = deepest_overlap(problem, out.x).depth;
     return out;
   };
   // Two step-1 errors that are the same to the solver's precision.
@@ -155,6 +163,7 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   };
   auto holds = [](const GroupOutcome& g) {
     return g.verdict.slips.empty() && g.verdict.equilibrium_residual <= kEquilibriumTolerance &&
+           g.overlap <= kPenetrationToleranceMm &&
            !(g.movable && g.verdict.smallest_curvature < -g.verdict.neutral_threshold);
   };
   announce("step2");
@@ -179,8 +188,12 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
           Rigid<double>::from_matrix(assembly.part_frames(o.x)[whole.target->part.index()]));
       const double error =
           e.position_mm + e.tilt_deg + (e.twist_free ? 0.0 : std::abs(e.twist_deg));
-      const bool better = !best || (holds(o) && !holds(*best)) ||
-                          (holds(o) == holds(*best) && error < best_error - 1e-9);
+      // What holds first; then what passes through nothing; then the nearest the target.
+      const bool apart = o.overlap <= kPenetrationToleranceMm;
+      const bool best_apart = best && best->overlap <= kPenetrationToleranceMm;
+      const bool better =
+          !best || (holds(o) && !holds(*best)) ||
+          (holds(o) == holds(*best) && (apart != best_apart ? apart : error < best_error - 1e-9));
       if (better) {
         best = std::move(o);
         best_error = error;
@@ -267,6 +280,28 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     }
   }
   result.max_gap_mm = max_gap(assembly, x, &result.max_gap_deg);
+  {
+    std::vector<bool> moving(assembly.nodes().size());
+    for (std::size_t i = 0; i < moving.size(); ++i) moving[i] = !assembly.nodes()[i].environment;
+    for (const auto& c : contacts->closest_parts(frames, moving, kTouchingMm)) {
+      result.contacts.push_back(
+          {assembly.label(PartId{c.part_a}), assembly.label(PartId{c.part_b}), c.distance});
+      result.max_penetration_mm = std::max(result.max_penetration_mm, -c.distance);
+    }
+  }
+  const bool overlapping = result.max_penetration_mm > kPenetrationToleranceMm;
+  if (overlapping) {
+    const PartContact& c = result.contacts.front();
+    result.stable = false;
+    result.diagnostics.error(
+        codes::kPartsOverlap,
+        fmt::format("{} and {} pass through each other by {:.1f} mm in the solved pose (at most "
+                    "{:g} mm is tolerated): no real parts rest like this",
+                    c.part_a,
+                    c.part_b,
+                    -c.distance_mm,
+                    kPenetrationToleranceMm));
+  }
   double energy = 0;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     energy += whole.masses[i] * (frames[i].topLeftCorner<3, 3>() * whole.coms[i] +
@@ -282,7 +317,9 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     result.diagnostics.error(codes::kTimeLimit,
                              "the solve stopped at its time limit; the result is incomplete");
   }
-  if (result.stable) {
+  if (overlapping) {
+    result.message = result.diagnostics.items().back().message;
+  } else if (result.stable) {
     std::string how = "nothing slides off under gravity";
     if (whole.target) {
       // How far gravity moved the target from where step 1 put it: a sag, not a failure.
@@ -328,11 +365,13 @@ std::string SolveResult::summary() const {
   std::string s;
   s += "FabHaL solve report\n";
   s += fmt::format("  {:<28}{}\n", "termination", to_string(termination));
-  s += fmt::format(
-      "  {:<28}{}\n",
-      "verdict",
-      stable ? "STABLE"
-             : (!feasible ? "INFEASIBLE" : (slips.empty() ? "DID NOT CONVERGE" : "FALLS APART")));
+  s += fmt::format("  {:<28}{}\n",
+                   "verdict",
+                   stable                                         ? "STABLE"
+                   : !feasible                                    ? "INFEASIBLE"
+                   : !slips.empty()                               ? "FALLS APART"
+                   : max_penetration_mm > kPenetrationToleranceMm ? "PARTS PASS THROUGH EACH OTHER"
+                                                                  : "DID NOT CONVERGE");
   s += fmt::format("  {:<28}{:.3f} mm, {:.3f}°  ({} start{})\n",
                    "target error after step 1",
                    target_step1.position_mm,
@@ -360,6 +399,13 @@ std::string SolveResult::summary() const {
       escapes ? fmt::format(", {} escape{} from a balance point", escapes, escapes == 1 ? "" : "s")
               : "");
   for (const Slip& slip : slips) s += fmt::format("  {:<28}{}\n", "slips", slip.message);
+  for (const PartContact& c : contacts) {
+    s += fmt::format("  {:<28}{} and {}{}\n",
+                     c.distance_mm < -kPenetrationToleranceMm ? "passes through" : "touches",
+                     c.part_a,
+                     c.part_b,
+                     c.distance_mm < 0 ? fmt::format(" ({:.2f} mm deep)", -c.distance_mm) : "");
+  }
   for (const std::string& n : stability_notes) s += fmt::format("  {:<28}{}\n", "note", n);
   std::string times;
   for (const StageTiming& t : timings)

@@ -38,8 +38,11 @@ std::vector<double> settle(const Problem& p,
           .then(p.target->base);
   held.target->goal = now;
   held.target->goal_turned = now;
-  AssemblySolver solver(held, vars, x, Objective::kEnergyHoldingTarget, o.deadline);
-  const StepResult r = solver.relax(x, o.max_iterations);
+  const StepResult r =
+      avoiding_contacts(held, x, [&](const Problem& q, const std::vector<double>& from) {
+        AssemblySolver solver(q, vars, from, Objective::kEnergyHoldingTarget, o.deadline);
+        return solver.relax(from, iterations_for(q, o));
+      });
   if (!r.closed) return x;
   // Settling must not move the target (the projection holds it to round-off).
   const PoseError moved =
@@ -167,6 +170,8 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
       best.hit_iteration_limit = !r.converged;
     }
   }
+  // The fits let parts pass through each other (they are cheap that way); settling and step 2
+  // keep them apart where a result does.
   if (best.candidates.empty()) best.candidates.push_back({best.x, best.error, false});
   std::stable_sort(best.candidates.begin(),
                    best.candidates.end(),

@@ -1,5 +1,7 @@
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "steps.h"
 
 namespace fabkit::hacks::detail {
@@ -25,7 +27,52 @@ std::string slip_message(const Assembly& a, int index, bool at_upper) {
       "{} slides off the open end of {} ({} = {:g})", guest, owner, p.spec.name, bound);
 }
 
-StepResult run_step2(const Problem& p,
+void watch_contacts(Problem& p, const std::vector<double>& x) {
+  p.watched.clear();
+  if (!p.contacts) return;
+  const Assembly& a = *p.assembly;
+  std::vector<bool> moving(a.nodes().size(), false);
+  for (std::size_t i = 0; i < moving.size(); ++i) {
+    moving[i] = !a.nodes()[i].environment && (p.group < 0 || p.part_group[i] == p.group);
+  }
+  p.watched = p.contacts->watched_pairs(a.part_frames(x), moving, kContactWatchMm);
+}
+
+Overlap deepest_overlap(const Problem& p, const std::vector<double>& x) {
+  Overlap out;
+  if (!p.contacts) return out;
+  const Assembly& a = *p.assembly;
+  std::vector<bool> moving(a.nodes().size(), false);
+  for (std::size_t i = 0; i < moving.size(); ++i) {
+    moving[i] = !a.nodes()[i].environment && (p.group < 0 || p.part_group[i] == p.group);
+  }
+  const std::vector<Mat4> frames = a.part_frames(x);
+  for (const PiecePair& w : p.contacts->watched_pairs(frames, moving, 0.0)) {
+    const double depth = -p.contacts->distance(w, frames).distance;
+    if (depth > out.depth) out = {depth, w};
+  }
+  return out;
+}
+
+bool watch_more_contacts(Problem& p, const std::vector<double>& x) {
+  if (!p.contacts) return false;
+  Problem after = p;
+  watch_contacts(after, x);
+  bool grown = false;
+  for (const PiecePair& w : after.watched) {
+    const bool known = std::any_of(p.watched.begin(), p.watched.end(), [&](const PiecePair& v) {
+      return v.part_a == w.part_a && v.part_b == w.part_b && v.piece_a == w.piece_a &&
+             v.piece_b == w.piece_b;
+    });
+    if (!known) {
+      p.watched.push_back(w);
+      grown = true;
+    }
+  }
+  return grown;
+}
+
+StepResult run_step2(Problem& p,
                      const Variables& vars,
                      const std::vector<double>& x1,
                      const SolveOptions& o) {
@@ -34,8 +81,16 @@ StepResult run_step2(const Problem& p,
     out.x = x1;
     return out;
   }
-  AssemblySolver solver(p, vars, x1, Objective::kEnergy, o.deadline);
-  return solver.relax(x1, o.max_iterations);
+  return avoiding_contacts(p, x1, [&](const Problem& q, const std::vector<double>& from) {
+    AssemblySolver solver(q, vars, from, Objective::kEnergy, o.deadline);
+    StepResult r = solver.relax(from, iterations_for(q, o));
+    if (!r.closed && !q.watched.empty()) {
+      // Parts that overlap too deeply for one projection are pulled apart first.
+      std::vector<double> apart = from;
+      if (solver.close(apart, 100)) r = solver.relax(apart, iterations_for(q, o));
+    }
+    return r;
+  });
 }
 
 StabilityReport check_stability(const Problem& p,

@@ -69,8 +69,62 @@ struct Step1Result {
 /// configurations, closed first.
 Step1Result run_step1(const Problem& p, const SolveOptions& o);
 
-/// Step 2: relaxation under gravity from step 1's configuration.
-StepResult run_step2(const Problem& p,
+/// Watches, as contact rows of `p`, the piece pairs near each other at `x` (at least one of
+/// them a part of p's group). Without a contact model nothing is watched.
+void watch_contacts(Problem& p, const std::vector<double>& x);
+/// Adds to p's watched pairs those near each other at `x`; true if there were new ones.
+bool watch_more_contacts(Problem& p, const std::vector<double>& x);
+
+/// The deepest interpenetration at `x` of parts of p's group with anything (mm, 0 when
+/// nothing passes through anything), and the pair.
+struct Overlap {
+  double depth = 0;
+  PiecePair pair;
+};
+Overlap deepest_overlap(const Problem& p, const std::vector<double>& x);
+
+/// Runs `run(problem, start)` with the contact pairs near `x` watched; a part can move
+/// farther than the watch distance in one run, so while the result comes near pairs not yet
+/// watched, they are added and it runs again from there (rarely more than twice).
+/// Iterations of one run: runs with contact rows get fewer (each evaluation queries every
+/// watched pair, and a run that needs more rarely gets anywhere with them).
+inline int iterations_for(const Problem& q, const SolveOptions& o) {
+  return q.watched.empty() ? o.max_iterations : std::min(o.max_iterations, kContactIterations);
+}
+
+template <class Run>
+StepResult with_contacts(Problem& p, const std::vector<double>& x, Run run) {
+  watch_contacts(p, x);
+  StepResult r = run(p, x);
+  for (int round = 1; round < kContactRounds && p.contacts && r.closed; ++round) {
+    if (!watch_more_contacts(p, r.x)) break;
+    r = run(p, r.x);
+  }
+  return r;
+}
+
+/// Runs `run` without contact rows first (most results pass through nothing, and contact rows
+/// cost a distance query per pair and evaluation); only a result where parts pass through
+/// each other is run again from `x` with the contacts watched.
+template <class Run>
+StepResult avoiding_contacts(Problem& p, const std::vector<double>& x, Run run) {
+  p.watched.clear();
+  StepResult r = run(p, x);
+  if (!p.contacts || !r.closed) return r;
+  const double plain = deepest_overlap(p, r.x).depth;
+  if (plain <= kPenetrationToleranceMm) return r;
+  Problem kept = p;
+  StepResult apart = with_contacts(kept, x, run);
+  // Contact rows are bounded in cost; when they leave the parts deeper in each other than
+  // the plain run did, the plain run's result stands (and the verdict reports the overlap).
+  if (!apart.closed || deepest_overlap(kept, apart.x).depth >= plain) return r;
+  p = std::move(kept);
+  return apart;
+}
+
+/// Step 2: relaxation under gravity from step 1's configuration. With a contact model, pairs
+/// that come near during the relaxation are watched from then on and it is repeated.
+StepResult run_step2(Problem& p,
                      const Variables& vars,
                      const std::vector<double>& x1,
                      const SolveOptions& o);

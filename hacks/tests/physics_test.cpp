@@ -164,14 +164,14 @@ TEST(Physics, TheOrderOfConnectsDoesNotMatter) {
     YAML::Node root = YAML::Load(yaml);
     // Which side of each connect is in the assembly already, in the file's order.
     std::set<std::string> in;
-    for (const YAML::Node e : root["environment"]) in.insert(e["name"].as<std::string>());
+    for (const auto& e : root["environment"]) in.insert(e["name"].as<std::string>());
     struct Step {
       YAML::Node node;
       std::string a, b;
       bool cycle;
     };
     std::vector<Step> steps;
-    for (const YAML::Node c : root["connections"]) {
+    for (const auto& c : root["connections"]) {
       auto part_of = [](const std::string& ref) { return ref.substr(0, ref.find('.')); };
       const std::string a = part_of(c["connect"][0].as<std::string>());
       const std::string b = part_of(c["connect"][1].as<std::string>());
@@ -183,7 +183,7 @@ TEST(Physics, TheOrderOfConnectsDoesNotMatter) {
     for (int trial = 0; trial < 3; ++trial) {
       // A random order in which every connect still finds its old side in place.
       std::set<std::string> placed;
-      for (const YAML::Node e : root["environment"]) placed.insert(e["name"].as<std::string>());
+      for (const auto& e : root["environment"]) placed.insert(e["name"].as<std::string>());
       // Indices, not nodes: assigning a YAML::Node overwrites what it refers to.
       std::vector<std::size_t> left(steps.size());
       for (std::size_t i = 0; i < left.size(); ++i) left[i] = i;
@@ -238,7 +238,7 @@ std::string chain_between_rods(int hooks, bool from_left) {
 }
 
 TEST(Physics, ASymmetricChainRestsTheSameFromEitherEnd) {
-  for (int hooks : {10, 12}) {
+  for (int hooks : {10, 11}) {
     SCOPED_TRACE(hooks);
     const Outcome l = solve_text(chain_between_rods(hooks, true));
     const Outcome r = solve_text(chain_between_rods(hooks, false));
@@ -256,6 +256,25 @@ TEST(Physics, ASymmetricChainRestsTheSameFromEitherEnd) {
     };
     EXPECT_LT(std::abs(lowest_x(l)), 40.0) << l.summary;
     EXPECT_LT(std::abs(lowest_x(r)), 40.0) << r.summary;
+  }
+}
+
+// Twelve S-hooks are longer than the chain the 400 mm between the rods lets hang: without
+// contacts the last hooks fold back through the rod and through each other (4 mm deep). That
+// pose is never reported stable, whichever end the chain is built from; and a reported
+// overlap names the parts.
+TEST(Physics, AChainThatFoldsThroughItselfIsNotStable) {
+  for (const bool from_left : {true, false}) {
+    SCOPED_TRACE(from_left);
+    const Design d = load_text(chain_between_rods(12, from_left));
+    ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+    const SolveResult r = solve(d.assembly);
+    EXPECT_FALSE(r.stable) << r.summary();
+    if (r.max_penetration_mm > 0.5) {
+      ASSERT_FALSE(r.contacts.empty());
+      EXPECT_LT(r.contacts.front().distance_mm, -0.5);
+      EXPECT_NE(r.diagnostics.format().find("pass through each other"), std::string::npos);
+    }
   }
 }
 

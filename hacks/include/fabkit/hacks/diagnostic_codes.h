@@ -45,6 +45,8 @@ inline constexpr DiagnosticCode kTargetMissing{"target-missing", DiagnosticClass
 inline constexpr DiagnosticCode kNotConnected{"not-connected", DiagnosticClass::kInfeasible};
 /// Step 2 ended away from a rest state (the potential slopes or curves down there).
 inline constexpr DiagnosticCode kNotAtRest{"not-at-rest", DiagnosticClass::kInfeasible};
+/// Two parts pass through each other in the reported pose (deeper than the tolerance).
+inline constexpr DiagnosticCode kPartsOverlap{"parts-overlap", DiagnosticClass::kCheck};
 /// A connection slips off under gravity.
 inline constexpr DiagnosticCode kFallsApart{"falls-apart", DiagnosticClass::kFallsApart};
 

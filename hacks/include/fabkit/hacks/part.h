@@ -36,6 +36,12 @@ struct Part {
   Vec3 center_of_mass = Vec3::Zero();
   /// Display mesh in the part's coordinates, mm.
   TriangleMesh mesh;
+  /// The object as convex pieces (closed convex meshes, part coordinates) for contact
+  /// queries: a part may touch another but not pass through it. `collision_tags` holds, per
+  /// piece, the index of the primitive it draws, or -1 for the rest of the body. Empty for a
+  /// part known only by a mesh file: its contacts are not checked.
+  std::vector<TriangleMesh> collision_pieces;
+  std::vector<int> collision_tags;
   /// Values of a parametric part's parameters (empty for fixed parts).
   std::map<std::string, double> params;
 
@@ -50,6 +56,11 @@ struct Part {
 /// Display mesh of one primitive in its part's coordinates (torus arcs, cylinders, boxes,
 /// spheres), built from the shape parameters.
 TriangleMesh primitive_mesh(const Primitive& p);
+/// The same primitive as convex pieces (see Part::collision_pieces), in its part's
+/// coordinates.
+std::vector<TriangleMesh> primitive_pieces(const Primitive& p);
+/// Appends primitive `index`'s pieces to `part`'s collision pieces, tagged with `index`.
+void add_primitive_pieces(Part& part, int index);
 
 /// A part made of loose primitives, as the paper's Environment({"name": Primitive, ...}).
 /// Its display mesh is the union of the primitive meshes and its mass is 0.

@@ -74,6 +74,15 @@ struct Slip {
   std::string message;  ///< "DoubleHook#2.hook1 slides off the open end of door.rod (t = 1)"
 };
 
+/// Two parts that touch (or pass through each other) in the reported pose.
+struct PartContact {
+  std::string part_a;  ///< the assembly's labels ("door", "SHook#2")
+  std::string part_b;
+  /// Smallest distance between their collision bodies, mm: ≥ 0 touching (within
+  /// kTouchingMm), < 0 the depth by which they pass through each other.
+  double distance_mm = 0;
+};
+
 /// A motion the potential does not change along (a hook free to slide on a level rod): the
 /// rest state is a family, and the reported one is where the solve happened to stop.
 struct NeutralDirection {
@@ -109,6 +118,12 @@ struct SolveResult {
   /// the neutral threshold at a minimum.
   double smallest_curvature = 0;
   std::vector<NeutralDirection> neutral_directions;
+  /// Pairs of parts whose bodies touch or overlap in the reported pose, except where a
+  /// connection joins them (a hook on its rod); deepest overlap first.
+  std::vector<PartContact> contacts;
+  /// Deepest overlap of two parts' bodies (mm, 0 if none): above
+  /// kPenetrationToleranceMm the pose is not one real parts can take.
+  double max_penetration_mm = 0;
   int escapes = 0;    ///< times step 2 stepped off a saddle or a maximum
   double energy = 0;  ///< Σ m·z_com (mass units · mm)
   int step1_starts = 0;

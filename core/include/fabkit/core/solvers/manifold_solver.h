@@ -39,6 +39,14 @@ class ManifoldProblem {
     (void)z;
     return true;
   }
+  /// Whether inequality `i` (0-based) is taken as flat where it binds: its curvature is left
+  /// out of the Hessian of the Lagrangian. Contacts between faceted bodies say yes: their
+  /// normals jump from face to face, and differencing them gives curvatures that are not
+  /// there.
+  virtual bool flat_inequality(int i) const {
+    (void)i;
+    return false;
+  }
 };
 
 struct ManifoldSolverOptions {
@@ -80,7 +88,10 @@ class ManifoldSolver {
   /// The motions allowed at a point.
   struct Active {
     std::vector<int> free;  ///< coordinates that may move (off their bounds, or pulled off)
-    Eigen::MatrixXd Z;      ///< orthonormal basis of the null space of the constraints on them
+    /// Rows of Point::h kept: every equality, and the binding inequalities the objective
+    /// presses against (one it pulls away from is let go: a part resting on another may lift).
+    std::vector<int> rows;
+    Eigen::MatrixXd Z;  ///< orthonormal basis of the null space of the kept rows on `free`
   };
   struct Result {
     Eigen::VectorXd z;
@@ -143,7 +154,10 @@ class ManifoldSolver {
  private:
   bool out_of_time() const;
   Point step(const Point& from, const Active& act, const Eigen::VectorXd& dF);
-  Eigen::VectorXd multipliers(const Point& p, const std::vector<int>& free) const;
+  Eigen::VectorXd multipliers(const Point& p,
+                              const std::vector<int>& free,
+                              const std::vector<int>& kept) const;
+  static std::vector<int> all_rows(const Point& p);
   Result finish(const Point& cur, int iterations, int max_iterations, Result out) const;
 
   ManifoldProblem& problem_;

@@ -1,0 +1,68 @@
+#pragma once
+/// Distance and penetration between rigid bodies made of convex pieces (FCL with libccd's
+/// GJK/EPA; fabkit::core, core/src/collision.cpp only). Every kit that must keep parts from
+/// passing through each other asks here.
+///
+/// A body is a list of convex pieces — closed convex triangle meshes in the body's own
+/// coordinates (mm) — each with a tag the caller chooses (which connector it draws, or -1 for
+/// the rest of the object). Non-convex objects are described by several pieces; a body is the
+/// union of its pieces.
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "fabkit/core/frame.h"
+#include "fabkit/core/mesh.h"
+
+namespace fabkit::collision {
+
+/// The signed distance between two convex pieces: positive when apart (the gap), negative
+/// when they overlap (the depth to push them apart by); the witness points are in world
+/// coordinates, `point_b - point_a` along the separating direction from a to b.
+struct Proximity {
+  double distance = 0;
+  Vec3 point_a = Vec3::Zero();
+  Vec3 point_b = Vec3::Zero();
+  /// Unit normal from a to b (the direction that separates b from a).
+  Vec3 normal = Vec3::UnitZ();
+};
+
+class Body;
+Proximity piece_distance(const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
+
+class Body {
+ public:
+  Body() = default;
+  /// `pieces` must be closed and convex (their vertices' convex hull is what is used);
+  /// `tags` has one entry per piece.
+  Body(std::span<const TriangleMesh> pieces, std::span<const int> tags);
+
+  bool empty() const { return pieces_ == nullptr || piece_count() == 0; }
+  int piece_count() const;
+  int tag(int piece) const;
+  /// Bounds of piece `piece` in body coordinates.
+  Vec3 piece_min(int piece) const;
+  Vec3 piece_max(int piece) const;
+  /// Bounds of the whole body in body coordinates.
+  Vec3 bounds_min() const { return min_; }
+  Vec3 bounds_max() const { return max_; }
+
+ private:
+  friend Proximity piece_distance(
+      const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
+  struct Pieces;
+  std::shared_ptr<const Pieces> pieces_;
+  Vec3 min_ = Vec3::Zero();
+  Vec3 max_ = Vec3::Zero();
+};
+
+/// Signed distance between piece `pa` of `a` at world pose `ta` and piece `pb` of `b` at `tb`.
+Proximity piece_distance(const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
+
+/// A lower bound of the distance between the two pieces from their world-aligned bounding
+/// boxes (0 when the boxes overlap): pairs farther apart than a cut-off need no exact query.
+double piece_gap_bound(const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
+
+}  // namespace fabkit::collision

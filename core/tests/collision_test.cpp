@@ -1,0 +1,90 @@
+// Distances and penetration depths between convex pieces, against hand-computed geometry.
+#include "fabkit/core/collision.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace fabkit::collision {
+namespace {
+
+Mat4 at(const Vec3& t, double turn_deg = 0) {
+  Mat4 m = Mat4::Identity();
+  m.topLeftCorner<3, 3>() = Eigen::AngleAxisd(turn_deg * M_PI / 180, Vec3::UnitZ()).matrix();
+  m.topRightCorner<3, 1>() = t;
+  return m;
+}
+
+// The box from `lo` to `hi`.
+TriangleMesh block(const Vec3& lo, const Vec3& hi) {
+  Mat4 m = Mat4::Identity();
+  m.topRightCorner<3, 1>() = (lo + hi) / 2;
+  return shapes::box(hi - lo).transformed(m);
+}
+
+Body one(const TriangleMesh& piece, int tag = -1) {
+  const std::vector<TriangleMesh> pieces{piece};
+  const std::vector<int> tags{tag};
+  return Body(pieces, tags);
+}
+
+// Two 10 mm cubes (centred on their origins) 25 mm apart along x: a 15 mm gap.
+TEST(Collision, GapBetweenSeparatedCubes) {
+  const Body a = one(block(Vec3(-5, -5, -5), Vec3(5, 5, 5)));
+  const Body b = one(block(Vec3(-5, -5, -5), Vec3(5, 5, 5)));
+  const Proximity p = piece_distance(a, 0, at(Vec3::Zero()), b, 0, at(Vec3(25, 3, 0)));
+  EXPECT_NEAR(p.distance, 15.0, 1e-6);
+  EXPECT_NEAR(p.normal.x(), 1.0, 1e-6);
+  EXPECT_NEAR((p.point_b - p.point_a).norm(), 15.0, 1e-6);
+  EXPECT_GE(piece_gap_bound(a, 0, at(Vec3::Zero()), b, 0, at(Vec3(25, 3, 0))), 0.0);
+  EXPECT_LE(piece_gap_bound(a, 0, at(Vec3::Zero()), b, 0, at(Vec3(25, 3, 0))), 15.0 + 1e-9);
+}
+
+// Overlapping by 0.3 mm along z: the depth is the overlap, the normal separates them.
+TEST(Collision, ShallowOverlapDepthAndNormal) {
+  const Body a = one(block(Vec3(-50, -50, -5), Vec3(50, 50, 5)));
+  const Body b = one(block(Vec3(-5, -5, -5), Vec3(5, 5, 5)));
+  const Proximity p = piece_distance(a, 0, at(Vec3::Zero()), b, 0, at(Vec3(1, 2, 9.7)));
+  EXPECT_NEAR(p.distance, -0.3, 1e-3);
+  EXPECT_NEAR(p.normal.z(), 1.0, 1e-3);
+}
+
+// A deep overlap: a small cube sunk 4 mm into a slab's top is pushed out the top (the
+// shortest way), not through the slab.
+TEST(Collision, DeepOverlapTakesTheShortestWayOut) {
+  const Body a = one(block(Vec3(-50, -50, -20), Vec3(50, 50, 0)));
+  const Body b = one(block(Vec3(-5, -5, -5), Vec3(5, 5, 5)));
+  const Proximity p = piece_distance(a, 0, at(Vec3::Zero()), b, 0, at(Vec3(0, 0, 1)));
+  EXPECT_NEAR(p.distance, -4.0, 1e-3);
+  EXPECT_NEAR(p.normal.z(), 1.0, 1e-3);
+}
+
+// Distance does not depend on where the pair is in the world or how it is turned.
+TEST(Collision, InvariantUnderRigidMotionOfBoth) {
+  const Body a = one(block(Vec3(-5, -5, -5), Vec3(5, 5, 5)));
+  const Body b = one(block(Vec3(-2, -2, -2), Vec3(2, 2, 2)));
+  const double d0 = piece_distance(a, 0, at(Vec3::Zero()), b, 0, at(Vec3(12, 0, 0))).distance;
+  Mat4 world = at(Vec3(1000, -300, 40), 37);
+  const double d1 =
+      piece_distance(a, 0, world * at(Vec3::Zero()), b, 0, world * at(Vec3(12, 0, 0))).distance;
+  EXPECT_NEAR(d0, 5.0, 1e-6);
+  EXPECT_NEAR(d1, d0, 1e-6);
+}
+
+// A body keeps its pieces' tags and bounds.
+TEST(Collision, BodyKeepsTagsAndBounds) {
+  const std::vector<TriangleMesh> pieces{block(Vec3(0, 0, 0), Vec3(1, 2, 3)),
+                                         block(Vec3(-4, 0, 0), Vec3(-3, 1, 1))};
+  const std::vector<int> tags{7, -1};
+  const Body b(pieces, tags);
+  ASSERT_EQ(b.piece_count(), 2);
+  EXPECT_EQ(b.tag(0), 7);
+  EXPECT_EQ(b.tag(1), -1);
+  EXPECT_NEAR(b.bounds_min().x(), -4, 1e-12);
+  EXPECT_NEAR(b.bounds_max().z(), 3, 1e-12);
+  EXPECT_NEAR(b.piece_max(0).y(), 2, 1e-12);
+}
+
+}  // namespace
+}  // namespace fabkit::collision

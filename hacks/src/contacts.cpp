@@ -1,0 +1,127 @@
+#include "contacts.h"
+
+#include <algorithm>
+
+namespace fabkit::hacks::detail {
+
+ContactModel::ContactModel(const Assembly& a) {
+  for (const PartNode& n : a.nodes()) {
+    const Part& part = *n.part;
+    bodies_.emplace_back(part.collision_pieces, part.collision_tags);
+  }
+  for (const Connection& c : a.connections()) {
+    joined_.push_back({c.first.part.value,
+                       c.first.primitive.value,
+                       c.second.part.value,
+                       c.second.primitive.value});
+  }
+  // Which primitives each piece is at: its own, and those whose pieces it touches (bounds
+  // within 1 mm, in the part's own coordinates: it does not change as the part moves).
+  constexpr double kAdjacentMm = 1.0;
+  for (const collision::Body& b : bodies_) {
+    std::vector<std::vector<int>> at(static_cast<std::size_t>(b.piece_count()));
+    for (int i = 0; i < b.piece_count(); ++i) {
+      for (int j = 0; j < b.piece_count(); ++j) {
+        const int prim = b.tag(j);
+        if (prim < 0) continue;
+        const bool own = i == j;
+        const Vec3 gap = (b.piece_min(j) - b.piece_max(i))
+                             .cwiseMax(b.piece_min(i) - b.piece_max(j))
+                             .cwiseMax(Vec3::Zero());
+        if (!own && gap.norm() > kAdjacentMm) continue;
+        auto& list = at[static_cast<std::size_t>(i)];
+        if (std::find(list.begin(), list.end(), prim) == list.end()) list.push_back(prim);
+      }
+    }
+    at_primitive_.push_back(std::move(at));
+  }
+}
+
+bool ContactModel::excluded(int part_a, int piece_a, int part_b, int piece_b) const {
+  auto at = [&](int part, int piece, int prim) {
+    const std::vector<int>& list =
+        at_primitive_[static_cast<std::size_t>(part)][static_cast<std::size_t>(piece)];
+    return std::find(list.begin(), list.end(), prim) != list.end();
+  };
+  for (const Joined& j : joined_) {
+    if (j.part_a == part_a && j.part_b == part_b && at(part_a, piece_a, j.prim_a) &&
+        at(part_b, piece_b, j.prim_b)) {
+      return true;
+    }
+    if (j.part_a == part_b && j.part_b == part_a && at(part_b, piece_b, j.prim_a) &&
+        at(part_a, piece_a, j.prim_b)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+std::vector<PiecePair> ContactModel::watched_pairs(const std::vector<Mat4>& frames,
+                                                   const std::vector<bool>& moving,
+                                                   double cutoff) const {
+  std::vector<PiecePair> out;
+  const int n = part_count();
+  for (int a = 0; a < n; ++a) {
+    if (!has_body(a)) continue;
+    for (int b = a + 1; b < n; ++b) {
+      if (!has_body(b)) continue;
+      if (!moving[static_cast<std::size_t>(a)] && !moving[static_cast<std::size_t>(b)]) continue;
+      const collision::Body& A = body(a);
+      const collision::Body& B = body(b);
+      for (int i = 0; i < A.piece_count(); ++i) {
+        for (int j = 0; j < B.piece_count(); ++j) {
+          if (excluded(a, i, b, j)) continue;
+          const PiecePair p{a, i, b, j};
+          // Bounds are loose (a box around a slanted wire): the true distance decides, so
+          // that only pairs that can meet become rows of the solve.
+          if (gap_bound(p, frames) > cutoff) continue;
+          if (cutoff > 0 && distance(p, frames).distance > cutoff) continue;
+          out.push_back(p);
+        }
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<ContactModel::PartPairDistance> ContactModel::closest_parts(
+    const std::vector<Mat4>& frames, const std::vector<bool>& moving, double cutoff) const {
+  std::vector<PartPairDistance> out;
+  for (const PiecePair& w : watched_pairs(frames, moving, cutoff)) {
+    const double d = distance(w, frames).distance;
+    if (d > cutoff) continue;
+    auto same = [&](const PartPairDistance& x) {
+      return x.part_a == w.part_a && x.part_b == w.part_b;
+    };
+    auto it = std::find_if(out.begin(), out.end(), same);
+    if (it == out.end()) {
+      out.push_back({w.part_a, w.part_b, d});
+    } else {
+      it->distance = std::min(it->distance, d);
+    }
+  }
+  std::stable_sort(
+      out.begin(), out.end(), [](const auto& u, const auto& v) { return u.distance < v.distance; });
+  return out;
+}
+
+collision::Proximity ContactModel::distance(const PiecePair& p,
+                                            const std::vector<Mat4>& frames) const {
+  return collision::piece_distance(body(p.part_a),
+                                   p.piece_a,
+                                   frames[static_cast<std::size_t>(p.part_a)],
+                                   body(p.part_b),
+                                   p.piece_b,
+                                   frames[static_cast<std::size_t>(p.part_b)]);
+}
+
+double ContactModel::gap_bound(const PiecePair& p, const std::vector<Mat4>& frames) const {
+  return collision::piece_gap_bound(body(p.part_a),
+                                    p.piece_a,
+                                    frames[static_cast<std::size_t>(p.part_a)],
+                                    body(p.part_b),
+                                    p.piece_b,
+                                    frames[static_cast<std::size_t>(p.part_b)]);
+}
+
+}  // namespace fabkit::hacks::detail

@@ -1,0 +1,83 @@
+#pragma once
+// Contacts between parts (issue 9: no part passes through another or the environment): every
+// part's convex pieces as a collision body, which piece pairs are watched (near each other
+// and not the two sides of one connection), and their signed distances. Step 2 keeps them
+// apart with one inequality row per watched pair; the verdict lists what touches.
+
+#include <memory>
+#include <vector>
+
+#include "fabkit/core/collision.h"
+#include "fabkit/hacks/assembly.h"
+
+namespace fabkit::hacks::detail {
+
+/// Two pieces of two parts that must not pass through each other.
+struct PiecePair {
+  int part_a = 0;
+  int piece_a = 0;
+  int part_b = 0;
+  int piece_b = 0;
+};
+
+/// The collision bodies of an assembly's parts (built once per solve).
+class ContactModel {
+ public:
+  explicit ContactModel(const Assembly& a);
+
+  const collision::Body& body(int part) const { return bodies_[static_cast<std::size_t>(part)]; }
+  bool has_body(int part) const { return !body(part).empty(); }
+  int part_count() const { return static_cast<int>(bodies_.size()); }
+
+  /// Piece pairs between parts (at least one of them in `moving`, a per-part flag) that come
+  /// within `cutoff` mm at `frames`, excluding, for each connection, the pieces at it on both
+  /// sides: a hook and the rod it hangs on touch by design, and so may what they are joined to
+  /// right there (the basket wall under the rim a hook wraps, the bar of a link at its hook);
+  /// the connection itself keeps them where they are.
+  std::vector<PiecePair> watched_pairs(const std::vector<Mat4>& frames,
+                                       const std::vector<bool>& moving,
+                                       double cutoff) const;
+
+  /// For each pair of parts (at least one in `moving`) whose bodies come within `cutoff` mm at
+  /// `frames`, apart from the pieces a connection joins: the smallest signed distance.
+  struct PartPairDistance {
+    int part_a = 0;
+    int part_b = 0;
+    double distance = 0;
+  };
+  std::vector<PartPairDistance> closest_parts(const std::vector<Mat4>& frames,
+                                              const std::vector<bool>& moving,
+                                              double cutoff) const;
+
+  /// Signed distance of a pair at `frames` (negative: interpenetration depth).
+  collision::Proximity distance(const PiecePair& p, const std::vector<Mat4>& frames) const;
+  /// A lower bound of the pair's distance (0 when their bounds overlap).
+  double gap_bound(const PiecePair& p, const std::vector<Mat4>& frames) const;
+
+ private:
+  bool excluded(int part_a, int piece_a, int part_b, int piece_b) const;
+
+  std::vector<collision::Body> bodies_;
+  // Per connection: (part, primitive) of each side.
+  struct Joined {
+    int part_a, prim_a, part_b, prim_b;
+  };
+  std::vector<Joined> joined_;
+  // [part][piece]: the primitives (indices) whose pieces this piece touches or is part of.
+  std::vector<std::vector<std::vector<int>>> at_primitive_;
+};
+
+/// Pieces closer than this (mm) are watched from the start of a relaxation.
+inline constexpr double kContactWatchMm = 25.0;
+/// Deeper than this (mm) counts as passing through: the verdict reports it.
+inline constexpr double kPenetrationToleranceMm = 0.5;
+/// Overlaps shallower than this (mm) are left to the relaxation, which removes them.
+inline constexpr double kContactSlackMm = 0.05;
+/// Iterations of a relaxation with contact rows, and how many times it is repeated with the
+/// pairs it came near (deterministic bounds on the cost of contacts).
+inline constexpr int kContactIterations = 150;
+inline constexpr int kContactRounds = 2;
+/// Pieces within this (mm) of each other touch (listed as contacts in result.json).
+inline constexpr double kTouchingMm = 0.5;
+
+}  // namespace fabkit::hacks::detail
