@@ -3,7 +3,7 @@
 // chromium with playwright-core and exits non-zero when a test fails.
 // FABKIT_UPDATE_GOLDEN=1 rewrites tests/golden/basket.png.
 import { spawn, execFileSync } from 'node:child_process';
-import { mkdtempSync, readFileSync, writeFileSync, existsSync, rmSync } from 'node:fs';
+import { mkdtempSync, readFileSync, readdirSync, writeFileSync, existsSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -113,6 +113,10 @@ const context = await chromium.launchPersistentContext(userDir, {
   args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
          '--disable-component-update', '--disable-sync', '--use-gl=angle', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
   viewport: { width: 1400, height: 900 }, deviceScaleFactor: 1, reducedMotion: 'reduce', acceptDownloads: true,
+});
+// Each new tab starts with an empty working copy; a reload in the same tab keeps it (sessionStorage marks the tab).
+await context.addInitScript(() => {
+  if (!sessionStorage.getItem('fabkit-test-tab')) { localStorage.clear(); sessionStorage.setItem('fabkit-test-tab', '1'); }
 });
 async function freshPage(u = url) {
   const page = await context.newPage();
@@ -349,6 +353,29 @@ try {
     await click(p, 'undo');
     yaml = await p.evaluate(() => window.__fabkit.designYaml());
     assert(!yaml.includes('tb1') && !yaml.includes('ParamTurnbuckle'), 'undo did not remove the part: ' + yaml);
+    await p.close();
+  });
+
+  await test('o workspace-switcher', async () => {
+    const p = await freshPage();
+    const kits = (await (await fetch(`${url}api/kits`)).json()).kits;
+    assert(kits.includes('hacks'), `server kits ${kits}`);
+    const options = await p.locator('[data-testid=workspace-switcher] option').evaluateAll((os) => os.map((o) => ({ kit: o.value, text: o.textContent, disabled: o.disabled })));
+    const byKit = Object.fromEntries(options.map((o) => [o.kit, o]));
+    assert(byKit.hacks && !byKit.hacks.disabled && (await p.getByTestId('workspace-switcher').inputValue()) === 'hacks', `hacks not active: ${JSON.stringify(options)}`);
+    for (const k of ['rods', 'flatpack', 'templates']) {
+      assert(byKit[k], `${k} missing from the switcher: ${JSON.stringify(options)}`);
+      // offered once both the server and the editor have it
+      assert(byKit[k].disabled === !kits.includes(k) || byKit[k].disabled, `${k}: ${JSON.stringify(byKit[k])}`);
+      if (byKit[k].disabled) assert(byKit[k].text.includes('not yet available'), `${k} label ${byKit[k].text}`);
+    }
+    for (const k of kits) assert(byKit[k], `server kit ${k} not listed`);
+    // a file of a kit without a workspace is refused with a message, the design is kept
+    await p.getByTestId('open-file').setInputFiles(path.join(repo, 'examples/rods/' + readdirSync(path.join(repo, 'examples/rods')).find((f) => f.endsWith('.yaml'))));
+    await idle(p);
+    const msg = await p.getByTestId('message').textContent();
+    assert(/rods design.*not available/.test(msg), `message: ${msg}`);
+    assert((await p.evaluate(() => window.__fabkit.kit())) === 'hacks', 'workspace changed');
     await p.close();
   });
 

@@ -1,5 +1,5 @@
 // Small DOM helpers shared by the panels.
-import type { Frame, Vec3 } from './api';
+import type { Frame, Vec3 } from './scene';
 
 export function el(tag: string, attrs: Record<string, string> = {}, ...children: (Node | string)[]): HTMLElement {
   const e = document.createElement(tag);

@@ -1,8 +1,8 @@
 // "Export Python": a FabHaL program in the paper's syntax (runnable with `fabkit run`).
 import type { Design } from './model';
-import type { Frame, Vec3 } from './api';
+import type { Frame, Vec3 } from '../../shell/scene';
 import * as THREE from 'three';
-import { frameMatrix } from './scene';
+import { frameMatrix } from '../../shell/scene';
 
 /** a ∘ b as a Frame (R = Rz·Ry·Rx, degrees). */
 function compose(a: Frame, b: Frame): Frame {

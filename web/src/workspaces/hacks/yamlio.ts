@@ -1,7 +1,7 @@
 // Design <-> YAML (fabkit: hacks/1, docs/design-format.md).
 import YAML from 'yaml';
 import type { Design, Connection } from './model';
-import type { Frame, Vec3 } from './api';
+import type { Frame, Vec3 } from '../../shell/scene';
 
 const frameOf = (f: any): Frame => ({ pos: (f?.pos ?? [0, 0, 0]).map(Number) as Vec3, rot: (f?.rot ?? [0, 0, 0]).map(Number) as Vec3 });
 

@@ -1,0 +1,464 @@
+// The hacks workspace: its state (library, picking, last check and solve), its commands
+// (connect, environment, target, solve) and its scene layer. Panels are in ./panels.ts.
+import * as THREE from 'three';
+import { ApiError, hacksApi } from './api';
+import type { CheckResult, CheckStep, Compat, HacksApi, MeshData, PartInfo, PartMesh, PlacedPart, PrimRef, SolveResult } from './api';
+import { Inventory, cloneDesign, countOf, freshName, instances } from './model';
+import type { Connection, Design, EnvItem } from './model';
+import { designToYaml } from './yamlio';
+import { designToPython } from './python';
+import { frameMatrix, geometryOf, matrixFrame } from '../../shell/scene';
+import type { Frame, Vec3 } from '../../shell/scene';
+import type { SelectionState } from '../../shell/selection';
+import type { MountedWorkspace, ShellContext } from '../../shell/workspace';
+import { download } from '../../shell/ui';
+import { fileStem } from '../../shell/shell';
+import { PRIM_COLORS } from './colors';
+import { Panels } from './panels';
+
+/** A part to draw: where, its mesh, its primitive types; a ghost is drawn see-through. */
+export interface ScenePart { name: string; type: string; frame: Frame; mesh: PartMesh; primTypes: Record<string, string>; ghost?: boolean }
+
+/** A connect the check refused: not in the design, shown until dismissed. */
+export interface FailedConnect { conn: Connection; step: CheckStep | null; message: string; check: CheckResult | null }
+
+export class HacksWorkspace implements MountedWorkspace {
+  readonly api: HacksApi;
+  library: PartInfo[] = [];
+  partByName = new Map<string, PartInfo>();
+  private meshCache = new Map<string, Promise<PartMesh>>();
+  private primMeshCache = new Map<string, Promise<MeshData>>();
+  inventory = new Inventory();
+  selectedLibPart: string | null = null;
+  /** First picked primitive: either in the scene ("eyehook1.hook") or in the library panel. */
+  pick: { scene?: string; lib?: { part: string; prim: string } } | null = null;
+  compat = new Map<string, Compat>(); // key: scene "inst.prim" or "lib:Part.prim"
+  lastCheck: CheckResult | null = null;
+  lastSolve: SolveResult | null = null;
+  failed: FailedConnect | null = null;
+  private checkSeq = 0;
+  /** The name typed for the next new instance of the selected library part (kept across re-renders). */
+  nameDraft: { part: string; name: string } | null = null;
+  /** Parameters typed for the next new instance of a parametric part, per part. */
+  paramDraft = new Map<string, Record<string, number>>();
+  /** Table 1 by primitive type (union of the library's `connects_to` lists), for loose primitives. */
+  typeConnects = new Map<string, Set<string>>();
+  private sceneFramed = false;
+  readonly panels: Panels;
+  private offs: (() => void)[] = [];
+  hooks: Record<string, unknown>;
+
+  constructor(readonly ctx: ShellContext<Design>) {
+    this.api = hacksApi(ctx.server);
+    const owned = ctx.store.get<Record<string, number>>('inventory');
+    if (owned) for (const [k, v] of Object.entries(owned)) this.inventory.set(k, v);
+    this.panels = new Panels(this);
+    ctx.toolbarButton('file', 'Export Python', 'export-python', 'Download the design as a FabHaL Python program (run it with fabkit run)', () =>
+      download(`${fileStem(this.design.name)}.py`, designToPython(this.design), 'text/x-python'));
+    ctx.toolbarButton('file', 'Download .glb', 'download-glb', 'Solve and download the solved scene as binary glTF', () => void this.downloadGlb());
+    ctx.toolbarButton('run', 'Solve', 'solve', 'Reach the target, then relax under gravity', () => void ctx.track(this.solve()), { primary: true });
+    this.offs.push(ctx.history.onChange((_d, label) => {
+      this.lastSolve = null; this.failed = null;
+      if (label.startsWith('open')) this.sceneFramed = false;
+      this.panels.solveStale();
+      void ctx.track(this.refresh());
+    }));
+    const scene = ctx.scene;
+    scene.onPick = (prim, part) => {
+      if (prim) void ctx.track(this.pickScene(prim));
+      else { ctx.selection.set(part, null); void this.updateScene(); this.panels.render(); }
+    };
+    scene.onHover = (key, x, y) => this.panels.hover(key, x, y);
+    this.hooks = {
+      designYaml: () => designToYaml(this.design),
+      python: () => designToPython(this.design),
+      /** Scene keys ("inst.prim") that have a mesh in the 3D view, with their triangle counts. */
+      sceneMeshes: () => Object.fromEntries([...scene.pieces].map(([k, m]) => [k, (m.geometry.index?.count ?? 0) / 3])),
+    };
+    void ctx.track(this.load());
+  }
+
+  get design(): Design { return this.ctx.history.current; }
+
+  private async load(): Promise<void> {
+    this.ctx.status('loading parts…');
+    this.library = await this.api.parts();
+    for (const p of this.library) {
+      this.partByName.set(p.name, p);
+      for (const q of p.primitives) {
+        if (!this.typeConnects.has(q.type)) this.typeConnects.set(q.type, new Set());
+        for (const t of q.connects_to) this.typeConnects.get(q.type)!.add(t);
+      }
+    }
+    this.panels.buildLibrary();
+    this.ctx.status('');
+    await this.refresh();
+  }
+
+  unmount(): void {
+    for (const off of this.offs) off();
+    this.ctx.scene.onPick = () => {};
+    this.ctx.scene.onHover = () => {};
+  }
+
+  // ---------------------------------------------------------------- names and lookups
+  partInfo(type: string): PartInfo | undefined {
+    return this.partByName.get(type) ?? this.library.find((p) => p.aliases.includes(type));
+  }
+  meshOf(type: string, params?: Record<string, number>): Promise<PartMesh> {
+    const key = type + JSON.stringify(params ?? {});
+    if (!this.meshCache.has(key)) this.meshCache.set(key, this.api.mesh(this.partInfo(type)?.name ?? type, params));
+    return this.meshCache.get(key)!;
+  }
+  typeOfInstance(name: string): string | undefined {
+    return instances(this.design).find((i) => i.name === name)?.part ?? (this.looseEnv(name) ? 'loose primitives' : undefined);
+  }
+  /** An environment made of loose primitives (no library part). */
+  looseEnv(name: string): EnvItem | undefined { return this.design.environment.find((e) => e.name === name && !e.part && e.primitives); }
+  /** The primitive type of a scene key ("eyehook1.hook" → hook, "table.surface" → surface). */
+  primTypeOf(key: string): string | undefined {
+    const [inst, prim] = key.split('.');
+    const e = this.looseEnv(inst);
+    if (e) { const t = looseSpec(e, prim)?.type; return t === undefined ? undefined : String(t); }
+    return this.partInfo(this.typeOfInstance(inst) ?? '')?.primitives.find((p) => p.name === prim)?.type;
+  }
+  isLooseKey(key: string): boolean { return !!this.looseEnv(key.split('.')[0]); }
+  private refOf(key: string): PrimRef | null {
+    const [inst, prim] = key.split('.');
+    const i = instances(this.design).find((x) => x.name === inst);
+    if (!i) return null;
+    const info = this.partInfo(i.part);
+    return { part: info?.name ?? i.part, primitive: prim, ...(i.params ? { params: i.params } : {}) };
+  }
+
+  exists(object: string): boolean {
+    return instances(this.design).some((i) => i.name === object) || this.design.environment.some((e) => e.name === object);
+  }
+
+  describeSelection(sel: SelectionState): string {
+    if (sel.piece) {
+      const inst = sel.piece.split('.')[0];
+      const type = this.primTypeOf(sel.piece);
+      return `Selected: primitive ${sel.piece}${type ? ` (${type})` : ''} of part ${inst} (${this.typeOfInstance(inst) ?? '?'})`;
+    }
+    if (sel.object) return `Selected: part ${sel.object} (${this.typeOfInstance(sel.object) ?? '?'})`;
+    return 'Nothing selected';
+  }
+
+  cancel(): boolean {
+    const had = !!this.pick;
+    this.pick = null;
+    void this.ctx.track(this.afterPickChange());
+    return had;
+  }
+
+  /** Meshes of a loose-primitive environment, each placed by the primitive's own frame inside the part. */
+  private async looseMeshOf(e: EnvItem): Promise<{ mesh: PartMesh; primTypes: Record<string, string> }> {
+    const mesh: PartMesh = { name: e.name, body: { vertices: [], faces: [] }, primitives: {} };
+    const primTypes: Record<string, string> = {};
+    for (const [prim, raw] of Object.entries(e.primitives ?? {})) {
+      const spec = raw as Record<string, unknown>;
+      const type = String(spec.type ?? '');
+      const sizes: Record<string, number> = {};
+      for (const [k, v] of Object.entries(spec)) if (k !== 'type' && k !== 'frame') sizes[k] = Number(v);
+      const key = type + JSON.stringify(sizes);
+      if (!this.primMeshCache.has(key)) this.primMeshCache.set(key, this.api.primMesh(type, sizes));
+      let m: MeshData;
+      try { m = await this.primMeshCache.get(key)!; } catch (err) { this.primMeshCache.delete(key); this.ctx.message(`cannot draw ${e.name}.${prim}: ${(err as Error).message}`); continue; }
+      const mat = frameMatrix(frameOfSpec(spec.frame));
+      const v = new THREE.Vector3(), out: number[] = [];
+      for (let i = 0; i < m.vertices.length; i += 3) { v.set(m.vertices[i], m.vertices[i + 1], m.vertices[i + 2]).applyMatrix4(mat); out.push(v.x, v.y, v.z); }
+      mesh.primitives[prim] = { vertices: out, faces: m.faces };
+      primTypes[prim] = type;
+    }
+    return { mesh, primTypes };
+  }
+
+  /** The frame of a part whose primitive `prim` sits at world frame `f`. */
+  partFrameFromPrimFrame(type: string, prim: string | undefined, f: Frame): Frame {
+    const info = this.partInfo(type);
+    const p = prim ? info?.primitives.find((q) => q.name === prim || (prim === 'hole' && q.name === 'ring')) : info?.primitives[0];
+    if (!p) return f;
+    return matrixFrame(frameMatrix(f).multiply(frameMatrix(p.frame).invert()));
+  }
+
+  // ---------------------------------------------------------------- check & scene
+  async runCheck(d: Design): Promise<CheckResult | null> {
+    if (!d.environment.length) return null;
+    return this.api.check(designToYaml(d));
+  }
+
+  /** Re-checks the design and redraws (after every command). */
+  async refresh(): Promise<void> {
+    const seq = ++this.checkSeq;
+    this.panels.render();
+    try {
+      const c = await this.runCheck(this.design);
+      if (seq !== this.checkSeq) return;
+      this.lastCheck = c;
+      this.panels.checkError = null;
+    } catch (e) {
+      if (seq !== this.checkSeq) return;
+      this.lastCheck = null;
+      this.panels.checkError = e instanceof ApiError ? `cannot read design: ${e.message}` : String(e);
+    }
+    await this.updateScene();
+    this.panels.render();
+  }
+
+  async updateScene(): Promise<void> {
+    const d = this.design;
+    const failed = this.failed;
+    let placed: PlacedPart[] = this.lastSolve?.parts ?? this.lastCheck?.parts ?? [];
+    const bad = new Set<string>();
+    if (failed?.step?.best_part_frames && failed.check) {
+      placed = failed.check.parts.map((p, i) => ({ ...p, frame: failed.step!.best_part_frames![i] ?? p.frame }));
+      bad.add(failed.conn.a); bad.add(failed.conn.b);
+    }
+    const parts: ScenePart[] = [];
+    const seen = new Set<string>();
+    const add = async (name: string, type: string, frame: Frame, ghost: boolean, params?: Record<string, number>) => {
+      seen.add(name);
+      const mesh = await this.meshOf(type, params);
+      const info = this.partInfo(type);
+      parts.push({ name, type, frame, mesh, ghost, primTypes: Object.fromEntries((info?.primitives ?? []).map((p) => [p.name, p.type])) });
+    };
+    const jobs: Promise<void>[] = [];
+    for (const p of placed) {
+      const inst = instances(d).find((i) => i.name === p.name);
+      if (inst) jobs.push(add(p.name, inst.part, p.frame, false, inst.params));
+    }
+    await Promise.all(jobs);
+    // loose-primitive environments: at the checked/solved frame, else where the user put them
+    for (const e of d.environment) if (!e.part && e.primitives) {
+      seen.add(e.name);
+      const { mesh, primTypes } = await this.looseMeshOf(e);
+      parts.push({ name: e.name, type: 'Environment', frame: placed.find((p) => p.name === e.name)?.frame ?? e.frame, mesh, primTypes });
+    }
+    // environment and target that the check did not place yet: show them where the user put them
+    for (const e of d.environment) if (e.part && !seen.has(e.name)) await add(e.name, e.part, e.frame, false);
+    if (d.target && !seen.has(d.target.name)) await add(d.target.name, d.target.part, this.partFrameFromPrimFrame(d.target.part, d.target.primitive, d.target.frame), true);
+    this.drawParts(parts);
+    const scene = this.ctx.scene;
+    const slipping = this.slippingConnections();
+    const sel = this.ctx.selection.current;
+    scene.clearStates();
+    for (const key of scene.pieces.keys()) {
+      const c = this.compat.get(key);
+      scene.setState(key, {
+        dim: !!this.pick && !!c && !c.ok, picked: this.pick?.scene === key, selected: sel.piece === key,
+        bad: bad.has(key) || slipping.some((i) => d.connections[i].a === key || d.connections[i].b === key),
+      });
+    }
+    scene.selectedObject = sel.object;
+    scene.restyle();
+    if (!this.sceneFramed && parts.length) { this.sceneFramed = true; scene.view('iso'); }
+  }
+
+  /** The parts layer: one group per part at its frame, a grey body and one pickable mesh per primitive. */
+  private drawParts(parts: ScenePart[]): void {
+    const scene = this.ctx.scene;
+    scene.clearLayer('parts');
+    const layer = scene.layer('parts');
+    for (const p of parts) {
+      const g = new THREE.Group();
+      g.matrixAutoUpdate = false;
+      g.matrix.copy(frameMatrix(p.frame));
+      if (p.mesh.body.faces.length) { // loose-primitive environments have no body
+        const body = new THREE.Mesh(geometryOf(p.mesh.body), new THREE.MeshStandardMaterial({ color: 0xc8c8c8, transparent: !!p.ghost, opacity: p.ghost ? 0.35 : 1, roughness: 0.8, polygonOffset: true, polygonOffsetFactor: 2, polygonOffsetUnits: 2 }));
+        scene.pickable(body, p.name, null, 0xc8c8c8);
+        g.add(body);
+      }
+      for (const [prim, m] of Object.entries(p.mesh.primitives)) {
+        const color = PRIM_COLORS[p.primTypes[prim]] ?? 0x999999;
+        const mesh = new THREE.Mesh(geometryOf(m), new THREE.MeshStandardMaterial({ color, transparent: true, opacity: p.ghost ? 0.5 : 1, roughness: 0.5 }));
+        scene.pickable(mesh, p.name, `${p.name}.${prim}`, color);
+        g.add(mesh);
+      }
+      layer.add(g);
+    }
+    layer.updateMatrixWorld(true);
+  }
+
+  slippingConnections(): number[] {
+    const solved = this.lastSolve;
+    if (!solved) return [];
+    const out: number[] = [];
+    this.design.connections.forEach((c, i) => {
+      if (solved.slipping.some((s) => (s.includes(c.a) && s.includes(c.b)) || s.includes(c.a) || s.includes(c.b))) out.push(i);
+    });
+    return out;
+  }
+
+  // ---------------------------------------------------------------- picking & connecting
+  /** Table 1 by primitive type only (for loose primitives, which /api/compatible does not know). */
+  private typeRule(a: string | undefined, b: string | undefined): Compat {
+    if (!a || !b) return { ok: true, reason: 'sizes are checked when you connect' };
+    const ok = this.typeConnects.get(a)?.has(b) ?? false;
+    return ok ? { ok, reason: `${a} – ${b}: allowed by Table 1; sizes are checked when you connect` }
+      : { ok, reason: `a ${a} cannot connect to a ${b} (Table 1); sizes are checked when you connect` };
+  }
+
+  private async computeCompat(): Promise<void> {
+    this.compat = new Map();
+    const pick = this.pick;
+    if (!pick) return;
+    let a: PrimRef | null;
+    let aType: string | undefined;
+    const lib = this.selectedLibPart ? this.partInfo(this.selectedLibPart) : undefined;
+    if (pick.scene) { a = this.isLooseKey(pick.scene) ? null : this.refOf(pick.scene); aType = this.primTypeOf(pick.scene); }
+    else {
+      a = { part: pick.lib!.part, primitive: pick.lib!.prim };
+      const pd = this.paramDraft.get(pick.lib!.part); if (pd && Object.keys(pd).length) a.params = pd;
+      aType = this.partInfo(pick.lib!.part)?.primitives.find((p) => p.name === pick.lib!.prim)?.type;
+    }
+    const keys: string[] = [], refs: PrimRef[] = [];
+    for (const key of this.ctx.scene.pieces.keys()) {
+      if (key === pick.scene) continue;
+      if (!a || this.isLooseKey(key)) { this.compat.set(key, this.typeRule(aType, this.primTypeOf(key))); continue; }
+      const r = this.refOf(key); if (r) { keys.push(key); refs.push(r); }
+    }
+    if (lib) for (const p of lib.primitives) {
+      if (!a) { this.compat.set(`lib:${lib.name}.${p.name}`, this.typeRule(aType, p.type)); continue; }
+      keys.push(`lib:${lib.name}.${p.name}`); refs.push({ part: lib.name, primitive: p.name });
+    }
+    if (!refs.length || !a) return;
+    const res = await this.api.compatible(a, refs);
+    res.forEach((r, i) => this.compat.set(keys[i], r));
+  }
+
+  async pickScene(key: string): Promise<void> {
+    this.ctx.selection.set(key.split('.')[0], key);
+    const pick = this.pick;
+    if (!pick) { this.pick = { scene: key }; await this.afterPickChange(); return; }
+    if (pick.scene === key) { this.pick = null; await this.afterPickChange(); return; }
+    this.pick = null;
+    if (pick.scene) await this.connect(pick.scene, key, null);
+    else await this.connect(null, key, pick.lib!);
+  }
+
+  async pickLibrary(part: string, prim: string): Promise<void> {
+    const pick = this.pick;
+    if (!pick) { this.pick = { lib: { part, prim } }; await this.afterPickChange(); return; }
+    if (pick.lib) {
+      if (pick.lib.part === part && pick.lib.prim === prim) { this.pick = null; await this.afterPickChange(); return; }
+      this.ctx.message('Pick the second primitive in the scene (two library primitives cannot be connected).');
+      return;
+    }
+    this.pick = null;
+    await this.connect(null, pick.scene!, { part, prim });
+  }
+
+  async afterPickChange(): Promise<void> {
+    this.ctx.message('');
+    await this.computeCompat();
+    this.panels.pickLabel();
+    await this.updateScene();
+    this.panels.render();
+  }
+
+  /** Connect `a` (scene) or a new instance of `lib` with scene primitive `b`; keep it only if the check accepts it. */
+  async connect(a: string | null, b: string, lib: { part: string; prim: string } | null): Promise<void> {
+    const next = cloneDesign(this.design);
+    if (lib) {
+      const owned = this.inventory.limit(lib.part);
+      if (owned !== undefined && countOf(next, lib.part) >= owned) {
+        await this.afterPickChange();
+        this.ctx.message(`Inventory: you own ${owned} ${lib.part} and all ${owned} are already in the design; cannot add another.`);
+        return;
+      }
+      let name = (this.nameDraft?.part === lib.part ? this.nameDraft.name.trim() : '') || freshName(next, lib.part.toLowerCase());
+      if (instances(next).some((i) => i.name === name) || next.environment.some((e) => e.name === name)) name = freshName(next, name.replace(/\d+$/, ''));
+      const pd = this.paramDraft.get(lib.part);
+      next.parts.push(pd && Object.keys(pd).length ? { name, part: lib.part, params: { ...pd } } : { name, part: lib.part });
+      a = `${name}.${lib.prim}`;
+    }
+    const conn: Connection = { a: a!, b };
+    next.connections.push(conn);
+    this.ctx.status('checking…');
+    let c: CheckResult | null = null;
+    try { c = await this.runCheck(next); } catch (e) {
+      this.failed = { conn, step: null, message: e instanceof ApiError ? e.message : String(e), check: null };
+    }
+    this.ctx.status('');
+    if (c) {
+      const step = connectSteps(c)[next.connections.length - 1] ?? null;
+      if (step && step.accepted) {
+        this.compat = new Map(); this.panels.pickLabel();
+        if (lib) this.nameDraft = null;
+        this.ctx.history.apply(next, `connect ${conn.a} – ${conn.b}`);
+        return;
+      }
+      const msg = step ? (step.diagnostics.map((d) => d.message).join('; ') || (step.skipped ? 'skipped because an earlier step failed' : 'rejected')) : 'rejected';
+      this.failed = { conn, step, message: msg, check: c };
+    }
+    this.compat = new Map(); this.panels.pickLabel();
+    await this.updateScene();
+    this.panels.render();
+  }
+
+  dismissFailed(): void {
+    this.failed = null;
+    void this.updateScene();
+    this.panels.render();
+  }
+
+  // ---------------------------------------------------------------- commands
+  setInventory(part: string, n: number | undefined): void {
+    this.inventory.set(part, n);
+    this.ctx.store.set('inventory', Object.fromEntries(this.inventory.owned));
+    this.panels.render();
+  }
+
+  setEnvironment(part: string): void {
+    const d = cloneDesign(this.design);
+    const owned = this.inventory.limit(part);
+    if (owned !== undefined && countOf(d, part) >= owned) { this.ctx.message(`Inventory: you own ${owned} ${part}; cannot add another.`); return; }
+    const name = freshName(d, 'env');
+    d.environment.push({ name, part, frame: { pos: [0, 0, 0], rot: [0, 0, 0] } });
+    this.ctx.history.apply(d, `environment ${name}`);
+  }
+
+  setTarget(part: string): void {
+    const d = cloneDesign(this.design);
+    const owned = this.inventory.limit(part);
+    const already = d.target ? 1 : 0;
+    if (owned !== undefined && countOf(d, part) - (d.target?.part === part ? already : 0) >= owned) { this.ctx.message(`Inventory: you own ${owned} ${part}; cannot add another.`); return; }
+    const name = d.target?.name ?? freshName(d, 'target');
+    d.target = { name, part, frame: d.target?.frame ?? { pos: [0, 0, 0], rot: [0, 0, 0] } };
+    this.ctx.history.apply(d, `target ${name}`);
+  }
+
+  selectPart(name: string): void {
+    this.ctx.selection.set(name, null);
+    void this.updateScene();
+    this.panels.render();
+  }
+
+  // ---------------------------------------------------------------- solve
+  async solve(): Promise<void> {
+    this.panels.solveBusy(true);
+    try {
+      this.lastSolve = await this.api.solve(designToYaml(this.design));
+      this.panels.solveResult(this.lastSolve, null);
+    } catch (e) {
+      this.lastSolve = null;
+      this.panels.solveResult(null, e as ApiError);
+    } finally {
+      this.panels.solveBusy(false);
+    }
+    await this.updateScene();
+    this.panels.render();
+  }
+
+  private async downloadGlb(): Promise<void> {
+    this.ctx.status('solving for .glb…');
+    try { download(`${fileStem(this.design.name)}.glb`, await this.api.solveGlb(designToYaml(this.design)), 'model/gltf-binary'); this.ctx.status(''); }
+    catch (e) { this.ctx.status(''); this.ctx.message(`.glb export failed: ${(e as Error).message}`); }
+  }
+}
+
+/** The connect steps of a check, in connection order. */
+export function connectSteps(c: CheckResult): CheckStep[] { return c.steps.filter((s) => s.text.startsWith('connect ')); }
+function looseSpec(e: EnvItem, prim: string): Record<string, unknown> | undefined { return (e.primitives ?? {})[prim] as Record<string, unknown> | undefined; }
+function frameOfSpec(f: any): Frame { return { pos: (f?.pos ?? [0, 0, 0]).map(Number) as Vec3, rot: (f?.rot ?? [0, 0, 0]).map(Number) as Vec3 }; }
