@@ -94,6 +94,14 @@ async function buildBasket(page) {
   await connectScene(page, 'eyehook2.hook', 'basket.hook');
 }
 
+/** A screenshot of the page: into docs/editor/NAME.png with FABKIT_DOCS_SHOTS=1 (npm run screenshots), else into the temp dir. */
+const docsShots = process.env.FABKIT_DOCS_SHOTS === '1';
+async function shot(page, name) {
+  await page.mouse.move(0, 0);
+  const dir = docsShots ? path.join(repo, 'docs/editor') : tmpdir();
+  await page.screenshot({ path: path.join(dir, `${name}.png`) });
+}
+
 function decodePng(buf) { return PNG.sync.read(buf); }
 async function canvasPng(page) {
   const url = await page.evaluate(() => document.querySelector('[data-testid=scene-canvas]').toDataURL('image/png'));
@@ -376,6 +384,39 @@ try {
     const msg = await p.getByTestId('message').textContent();
     assert(/rods design.*not available/.test(msg), `message: ${msg}`);
     assert((await p.evaluate(() => window.__fabkit.kit())) === 'hacks', 'workspace changed');
+    await p.close();
+  });
+
+  await test('p goal-always-visible', async () => {
+    const p = await freshPage();
+    await p.getByTestId('open-file').setInputFiles(example);
+    await idle(p);
+    let g = await p.evaluate(() => window.__fabkit.goal());
+    assert(g && g.achieved, `no goal drawn for a connected target: ${JSON.stringify(g)}`);
+    assert(Math.abs(g.goal[2] - 100) < 1e-6, `goal z ${g.goal}`);
+    assert(await p.getByTestId('goal-error-label').count() === 1, 'no error label in the view');
+    // moving the target's goal moves the ghost, also when the target is connected
+    await setField(p, 'frame-target-z', -990);
+    g = await p.evaluate(() => window.__fabkit.goal());
+    assert(Math.abs(g.goal[2] + 990) < 1e-6, `goal did not follow the slider: ${g.goal}`);
+    await click(p, 'solve');
+    assert((await p.getByTestId('verdict').textContent()) === 'STABLE', 'verdict');
+    const tv = await p.getByTestId('target-verdict').textContent();
+    assert(tv.startsWith('OFF TARGET'), `target verdict: ${tv}`);
+    assert((await p.getByTestId('solve-result').getAttribute('class')) === 'result-off', 'result not coloured as off target');
+    g = await p.evaluate(() => window.__fabkit.goal());
+    const err = await p.getByTestId('target-error').textContent();
+    const mm = Number(err.match(/Target error: ([\d.]+) mm/)[1]);
+    assert(mm > 900 && Math.abs(g.distance_mm - mm) < 1, `line ${g.distance_mm} mm vs reported ${mm} mm`);
+    const label = await p.getByTestId('goal-error-label').textContent();
+    assert(label.includes(`${mm.toFixed(1)} mm off`) && label.includes('tilt') && label.includes('twist'), `label: ${label}`);
+    await click(p, 'view-front');
+    await shot(p, 'goal-off-target');
+    // the tolerance is the user's: a generous one makes the same result count as on target
+    await setField(p, 'tolerance-mm', 2000);
+    await setField(p, 'tolerance-deg', 180);
+    assert((await p.getByTestId('target-verdict').textContent()).startsWith('ON TARGET'), 'tolerance not applied');
+    assert((await p.getByTestId('solve-result').getAttribute('class')) === 'result-stable', 'result not green');
     await p.close();
   });
 

@@ -55,12 +55,18 @@ export class SceneView {
   onHover: (piece: string | null, x: number, y: number) => void = () => {};
   /** Called after every render (overlays that follow the camera). */
   onRender: (() => void)[] = [];
+  /** HTML labels pinned to world points, by layer; repositioned after every render. */
+  private labels: { layer: string; at: THREE.Vector3; el: HTMLElement }[] = [];
+  private labelHost: HTMLElement;
 
   constructor(private host: HTMLElement) {
     this.renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(1);
     this.renderer.setClearColor(0xf4f6f8);
     host.appendChild(this.renderer.domElement);
+    this.labelHost = document.createElement('div');
+    this.labelHost.className = 'scene-labels';
+    host.appendChild(this.labelHost);
     this.renderer.domElement.dataset.testid = 'scene-canvas';
     this.camera = new THREE.PerspectiveCamera(40, 1, 1, 20000);
     this.camera.up.set(0, 0, 1);
@@ -98,7 +104,36 @@ export class SceneView {
 
   render(): void {
     this.renderer.render(this.scene, this.camera);
+    this.placeLabels();
     for (const f of this.onRender) f();
+  }
+
+  /**
+   * An HTML label pinned to a world point (mm) of a layer; removed with the layer. It follows
+   * the camera and hides when the point is behind it or outside the view.
+   */
+  addLabel(layer: string, at: THREE.Vector3, content: string | HTMLElement, attrs: Record<string, string> = {}): HTMLElement {
+    const el = document.createElement('div');
+    el.className = 'scene-label';
+    for (const [k, v] of Object.entries(attrs)) el.setAttribute(k, k === 'class' ? `scene-label ${v}` : v);
+    if (typeof content === 'string') el.textContent = content; else el.append(content);
+    this.labelHost.append(el);
+    this.labels.push({ layer, at: at.clone(), el });
+    this.placeLabels();
+    return el;
+  }
+
+  private placeLabels(): void {
+    if (!this.labels.length) return;
+    const w = this.host.clientWidth, h = this.host.clientHeight;
+    const v = new THREE.Vector3();
+    for (const l of this.labels) {
+      v.copy(l.at).project(this.camera);
+      const inside = v.z < 1 && Math.abs(v.x) <= 1 && Math.abs(v.y) <= 1;
+      l.el.style.display = inside ? '' : 'none';
+      l.el.style.left = `${((v.x + 1) / 2) * w}px`;
+      l.el.style.top = `${((1 - v.y) / 2) * h}px`;
+    }
   }
 
   /** A named group under the root; created on first use. Workspaces own their layers. */
@@ -115,6 +150,7 @@ export class SceneView {
       g.remove(c);
       c.traverse((o) => { if ((o as THREE.Mesh).geometry) (o as THREE.Mesh).geometry.dispose(); });
     }
+    this.labels = this.labels.filter((l) => { if (l.layer !== name) return true; l.el.remove(); return false; });
     for (const [k, m] of [...this.pieces]) if (!this.inScene(m)) this.pieces.delete(k);
     for (const [k, m] of [...this.bodies]) if (!this.inScene(m)) this.bodies.delete(k);
   }

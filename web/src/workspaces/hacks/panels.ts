@@ -5,7 +5,7 @@ import { cloneDesign, countOf, defaultParams, freshName, instances, removeInstan
 import { lazyThumbnail } from './thumbs';
 import { renderTree } from './tree';
 import { el, frameEditor } from '../../shell/ui';
-import { connectSteps } from './workspace';
+import { connectSteps, describeError } from './workspace';
 import type { HacksWorkspace } from './workspace';
 
 const fmt = (x: number, d = 1) => x.toFixed(d);
@@ -42,7 +42,7 @@ export class Panels {
     p('right', 'connections', 'Connections', { hint: 'A connect that fails its check is not added to the design; its diagnostic is shown below the list.' })
       .append(this.connections, this.failedBox);
     this.solveBox = el('div', { id: 'solve-result', 'data-testid': 'solve-result' }, el('p', { class: 'hint' }, 'Not solved yet.'));
-    p('right', 'solve', 'Solve result').append(this.solveBox);
+    p('right', 'solve', 'Solve result').append(this.toleranceRow(), this.solveBox);
     this.tree = el('div', { id: 'tree', 'data-testid': 'tree' });
     p('right', 'tree', 'Connection tree').append(this.tree);
     this.instances = el('ul', { id: 'instances', 'data-testid': 'instances' });
@@ -79,6 +79,7 @@ export class Panels {
 
   // ---------------------------------------------------------------- solve result
   solveStale(): void {
+    this.solveBox.className = '';
     this.solveBox.innerHTML = '<p class="hint">Not solved since the last change; press Solve.</p>';
     this.solveBox.dataset.state = 'stale';
   }
@@ -92,19 +93,46 @@ export class Panels {
     }
   }
 
+  /** "On target within [25] mm and [10]°": what counts as doing what was asked. */
+  private toleranceRow(): HTMLElement {
+    const t = this.w.tolerance();
+    const field = (testid: string, value: number, unit: string, title: string) => {
+      const f = el('input', { type: 'number', min: '0', step: 'any', value: String(value), 'data-testid': testid, title, style: 'width:60px' }) as HTMLInputElement;
+      f.addEventListener('change', () => {
+        const mm = Number(mmField.value), deg = Number(degField.value);
+        if (!(mm >= 0) || !(deg >= 0)) { this.w.ctx.message('The target tolerance must be a number ≥ 0.'); return; }
+        this.w.setTolerance({ mm, deg });
+      });
+      return [f, ` ${unit}`] as const;
+    };
+    const [mmField, mmUnit] = field('tolerance-mm', t.mm, 'mm', 'How far (mm) the target may end up from its goal and still count as on target');
+    const [degField, degUnit] = field('tolerance-deg', t.deg, '°', 'How much (degrees) the target may be rotated from its goal and still count as on target');
+    return el('div', { class: 'hint tolerance' }, 'On target when within ', mmField, mmUnit, ' and ', degField, degUnit);
+  }
+
   solveResult(r: SolveResult | null, err: ApiError | null): void {
     this.solveBox.innerHTML = '';
     if (r) {
       const t = r.target;
+      const hasTarget = !!this.w.design.target && !!t;
+      const on = hasTarget && this.w.onTarget(t);
+      const tol = this.w.tolerance();
+      // one colour for both questions: holds and on target (green), holds but misses (amber), falls (red)
+      const state = !r.stable ? 'falls' : hasTarget && !on ? 'off' : 'stable';
       this.solveBox.append(
         el('div', { class: `verdict ${r.stable ? 'stable' : 'falls'}`, 'data-testid': 'verdict' }, r.stable ? 'STABLE' : 'FALLS APART'),
-        el('div', { 'data-testid': 'target-error' }, t ? `Target error: ${fmt(t.pos_error_mm)} mm, ${fmt(t.rot_error_deg)}°` : 'No target'),
+        ...(hasTarget ? [el('div', { class: `target-verdict ${on ? 'on' : 'off'}`, 'data-testid': 'target-verdict' },
+          on ? `ON TARGET (within ${tol.mm} mm, ${tol.deg}°)` : `OFF TARGET (more than ${tol.mm} mm or ${tol.deg}° from the goal)`)] : []),
+        el('div', { 'data-testid': 'target-error' }, hasTarget ? `Target error: ${fmt(t.pos_error_mm)} mm, ${fmt(t.rot_error_deg)}° — ${describeError(t)}` : 'No target'),
+        ...(hasTarget && t.step1 ? [el('div', { class: 'hint', 'data-testid': 'target-error-step1' }, `before gravity (step 1): ${describeError(t.step1)}`)] : []),
         el('div', { class: 'hint' }, `${r.termination}: ${r.message}`),
         ...r.slipping.map((s) => el('div', { class: 'diag', 'data-testid': 'slipping' }, `slipping: ${s}`)),
       );
-      this.solveBox.dataset.state = r.stable ? 'stable' : 'falls';
+      this.solveBox.dataset.state = state;
+      this.solveBox.className = `result-${state}`;
       return;
     }
+    this.solveBox.className = 'result-falls';
     const e = err!;
     const what = e.status === 422 ? 'Infeasible' : e.status === 503 ? 'Timed out' : 'Error';
     this.solveBox.append(el('div', { class: 'verdict falls', 'data-testid': 'verdict' }, what),

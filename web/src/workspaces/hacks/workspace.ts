@@ -73,6 +73,8 @@ export class HacksWorkspace implements MountedWorkspace {
       designYaml: () => designToYaml(this.design),
       python: () => designToPython(this.design),
       /** Scene keys ("inst.prim") that have a mesh in the 3D view, with their triangle counts. */
+      /** The goal and the achieved point of the target's primitive (mm), with the label's text. */
+      goal: () => this.goal,
       sceneMeshes: () => Object.fromEntries([...scene.pieces].map(([k, m]) => [k, (m.geometry.index?.count ?? 0) / 3])),
     };
     void ctx.track(this.load());
@@ -239,6 +241,7 @@ export class HacksWorkspace implements MountedWorkspace {
     for (const e of d.environment) if (e.part && !seen.has(e.name)) await add(e.name, e.part, e.frame, false);
     if (d.target && !seen.has(d.target.name)) await add(d.target.name, d.target.part, this.partFrameFromPrimFrame(d.target.part, d.target.primitive, d.target.frame), true);
     this.drawParts(parts);
+    await this.drawGoal(placed);
     const scene = this.ctx.scene;
     const slipping = this.slippingConnections();
     const sel = this.ctx.selection.current;
@@ -278,6 +281,77 @@ export class HacksWorkspace implements MountedWorkspace {
       layer.add(g);
     }
     layer.updateMatrixWorld(true);
+  }
+
+  /** Where the target should be and how far it is: the goal's world point, the achieved one. */
+  goal: { goal: Vec3; achieved: Vec3 | null; distance_mm: number | null; text: string } | null = null;
+
+  /**
+   * The goal layer: the target part drawn as a green ghost at the pose asked for (always, also
+   * once it is connected), and a line from where the target's primitive is to where it should be,
+   * labelled with the error (the solve's position, tilt and twist; before a solve, the distance).
+   */
+  private async drawGoal(placed: PlacedPart[]): Promise<void> {
+    const scene = this.ctx.scene;
+    scene.clearLayer('goal');
+    this.goal = null;
+    const t = this.design.target;
+    const info = t ? this.partInfo(t.part) : undefined;
+    if (!t || !info) return;
+    const primName = t.primitive ?? info.primitives[0]?.name;
+    const prim = info.primitives.find((p) => p.name === primName || (primName === 'hole' && p.name === 'ring'));
+    const goalPos = new THREE.Vector3().setFromMatrixPosition(frameMatrix(t.frame));
+    const layer = scene.layer('goal');
+    const at = placed.find((p) => p.name === t.name);
+    const v3 = (v: THREE.Vector3): Vec3 => [v.x, v.y, v.z];
+    if (!at) { // not placed yet: the pickable ghost in the parts layer is the goal
+      scene.addLabel('goal', goalPos, `goal of ${t.name}`, { class: 'goal', 'data-testid': 'goal-label' });
+      this.goal = { goal: v3(goalPos), achieved: null, distance_mm: null, text: '' };
+      return;
+    }
+    let mesh: PartMesh;
+    try { mesh = await this.meshOf(t.part); } catch { return; }
+    const ghost = new THREE.Group();
+    ghost.matrixAutoUpdate = false;
+    ghost.matrix.copy(frameMatrix(this.partFrameFromPrimFrame(t.part, t.primitive, t.frame)));
+    const fill = new THREE.MeshBasicMaterial({ color: 0x2e9e44, transparent: true, opacity: 0.16, depthWrite: false });
+    const edge = new THREE.LineBasicMaterial({ color: 0x2e9e44, transparent: true, opacity: 0.7 });
+    for (const m of [mesh.body, ...Object.values(mesh.primitives)]) {
+      if (!m.faces.length) continue;
+      const g = geometryOf(m);
+      ghost.add(new THREE.Mesh(g, fill), new THREE.LineSegments(new THREE.EdgesGeometry(g, 35), edge));
+    }
+    ghost.userData.goal = true;
+    layer.add(ghost);
+    const achieved = new THREE.Vector3().setFromMatrixPosition(frameMatrix(at.frame).multiply(frameMatrix(prim?.frame ?? { pos: [0, 0, 0], rot: [0, 0, 0] })));
+    const distance = achieved.distanceTo(goalPos);
+    const solved = this.lastSolve?.target;
+    const onTarget = solved ? this.onTarget(solved) : distance <= this.tolerance().mm;
+    const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints([achieved, goalPos]),
+      new THREE.LineBasicMaterial({ color: onTarget ? 0x2e9e44 : 0xd9822b }));
+    const dot = (p: THREE.Vector3, color: number) => {
+      const s = new THREE.Mesh(new THREE.SphereGeometry(4, 12, 8), new THREE.MeshBasicMaterial({ color }));
+      s.position.copy(p); return s;
+    };
+    layer.add(line, dot(goalPos, 0x2e9e44), dot(achieved, onTarget ? 0x2e9e44 : 0xd9822b));
+    layer.updateMatrixWorld(true);
+    const text = solved ? `${t.name}: ${describeError(solved)}` : `${t.name}: ${distance.toFixed(1)} mm from its goal (before solving)`;
+    scene.addLabel('goal', achieved.clone().lerp(goalPos, 0.5), text, { class: onTarget ? 'ok' : 'off', 'data-testid': 'goal-error-label' });
+    this.goal = { goal: v3(goalPos), achieved: v3(achieved), distance_mm: distance, text };
+  }
+
+  /** The user's "does it do what I asked" tolerance (kept in local storage). */
+  tolerance(): { mm: number; deg: number } {
+    return this.ctx.store.get<{ mm: number; deg: number }>('tolerance') ?? { mm: 25, deg: 10 };
+  }
+  setTolerance(t: { mm: number; deg: number }): void {
+    this.ctx.store.set('tolerance', t);
+    if (this.lastSolve) this.panels.solveResult(this.lastSolve, null);
+    void this.updateScene();
+  }
+  onTarget(e: { pos_error_mm: number; rot_error_deg: number }): boolean {
+    const t = this.tolerance();
+    return e.pos_error_mm <= t.mm && e.rot_error_deg <= t.deg;
   }
 
   slippingConnections(): number[] {
@@ -456,6 +530,12 @@ export class HacksWorkspace implements MountedWorkspace {
     try { download(`${fileStem(this.design.name)}.glb`, await this.api.solveGlb(designToYaml(this.design)), 'model/gltf-binary'); this.ctx.status(''); }
     catch (e) { this.ctx.status(''); this.ctx.message(`.glb export failed: ${(e as Error).message}`); }
   }
+}
+
+/** "18.0 mm off, tilt 0.0°, twist 0.0° about the vertical" from a solve's target error. */
+export function describeError(e: { pos_error_mm: number; rot_error_deg: number; tilt_deg: number; twist_deg: number; twist_free: boolean }): string {
+  const twist = e.twist_free ? 'twist free (not asked for)' : `twist ${e.twist_deg.toFixed(1)}° about the vertical`;
+  return `${e.pos_error_mm.toFixed(1)} mm off, tilt ${e.tilt_deg.toFixed(1)}°, ${twist}`;
 }
 
 /** The connect steps of a check, in connection order. */
