@@ -280,7 +280,21 @@ try {
     assert((await connectionTexts(p)).length === 1, 'failed cycle was kept');
     for (const k of ['s.hook2', 'env1.hook2']) assert((await p.getByTestId(`scene-prim-${k}`).getAttribute('class')).includes('bad'), `${k} not highlighted`);
     assert((await p.getByTestId('failed-connect').textContent()).includes('closest configuration'), 'best frames not shown');
-    await p.screenshot({ path: path.join(tmpdir(), 'fabkit-cycle.png') });
+    // explained in the 3D view: a callout next to the gap, a line across it, a suggestion, the parts framed
+    const f = await p.evaluate(() => window.__fabkit.failure());
+    assert(f && f.framed && f.gap_mm > 250 && f.gap_mm < 340, `failure view: ${JSON.stringify(f)}`);
+    const callout = p.getByTestId('failure-callout');
+    assert(await callout.isVisible(), 'no callout in the 3D view');
+    const ct = await callout.textContent();
+    assert(ct.includes('cannot close cycle') && ct.includes(`a gap of ${f.gap_mm.toFixed(1)} mm`), `callout: ${ct}`);
+    assert(/chain of \d+ more \w+/.test(f.suggestion) && ct.includes(f.suggestion), `suggestion: ${f.suggestion}`);
+    const view = await p.getByTestId('scene-canvas').boundingBox();
+    const cb = await callout.boundingBox();
+    assert(cb.x >= view.x && cb.x + cb.width <= view.x + view.width + 1 && cb.y >= view.y, 'callout outside the 3D view');
+    for (const k of ['s.hook2', 'env1.hook2']) assert(await p.evaluate((key) => window.__fabkit.screenPointOf(key), k), `${k} not in view after framing`);
+    await shot(p, 'cycle-cannot-close');
+    await click(p, 'failure-dismiss');
+    assert(await p.getByTestId('failure-callout').count() === 0 && (await p.evaluate(() => window.__fabkit.failure())) === null, 'dismiss left the failure');
     await p.close();
   });
 
@@ -294,8 +308,11 @@ try {
     for (let i = 0; i < 3; ++i) await connectNew(p, 'HookEyeConnector', `eyehook${i + 1}`, 'hook', rods[i]);
     assert((await connectionTexts(p)).length === 3, `3 connections expected: ${await connectionTexts(p)} ${await p.getByTestId('failed-connect').textContent()}`);
     await connectNew(p, 'HookEyeConnector', 'eyehook4', 'hook', rods[3]);
-    const msg = await p.getByTestId('message').textContent();
+    // refused where every refused connect is explained: the failure box and the 3D callout
+    const msg = await p.getByTestId('failed-connect-message').textContent();
     assert(/own 3 HookEyeConnector/.test(msg), `message: ${msg}`);
+    const callout = await p.getByTestId('failure-callout').textContent();
+    assert(/own 3 HookEyeConnector/.test(callout), `3D callout: ${callout}`);
     assert((await connectionTexts(p)).length === 3, 'fourth eye hook was added');
     await p.close();
   });

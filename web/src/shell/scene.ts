@@ -220,8 +220,10 @@ export class SceneView {
     return null;
   }
 
-  frameAll(): void {
-    const box = new THREE.Box3().setFromObject(this.root);
+  frameAll(): void { this.frameBox(new THREE.Box3().setFromObject(this.root)); }
+
+  /** Points the camera at a box (mm, world) from the current direction so that all of it is in view. */
+  frameBox(box: THREE.Box3): void {
     if (box.isEmpty()) { this.render(); return; }
     const c = box.getCenter(new THREE.Vector3()), size = box.getSize(new THREE.Vector3()).length();
     const dir = this.camera.position.clone().sub(this.controls.target).normalize();

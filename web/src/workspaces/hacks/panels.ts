@@ -269,13 +269,17 @@ export class Panels {
       host.append(li);
     });
     const f = this.failedBox, failed = w.failed;
+    const wasHidden = f.hidden;
     f.hidden = !failed;
     f.innerHTML = '';
     if (failed) {
-      f.append(el('div', {}, el('b', {}, 'Not added: '), `${failed.conn.a} – ${failed.conn.b}`),
+      const view = w.failure;
+      f.append(el('div', {}, el('b', {}, failed.kind === 'inventory' ? 'Not added (inventory): ' : 'Not added: '), `${failed.conn.a} – ${failed.conn.b}`),
         el('div', { class: 'diag', 'data-testid': 'failed-connect-message' }, failed.message),
-        ...(failed.step?.best_part_frames ? [el('div', { class: 'hint' }, 'The 3D view shows the closest configuration the cycle search found; the failing primitives are red.')] : []),
+        ...(failed.step?.best_part_frames ? [el('div', { class: 'hint' }, `The 3D view shows the closest configuration the cycle search found; the failing primitives are red${view?.gap_mm != null ? `, the red line spans the ${view.gap_mm.toFixed(1)} mm gap` : ''}.`)] : []),
+        ...(view?.suggestion ? [el('div', { class: 'suggestion', 'data-testid': 'failed-suggestion' }, view.suggestion)] : []),
         button('Dismiss', 'dismiss-failed', () => w.dismissFailed()));
+      if (wasHidden) f.scrollIntoView({ block: 'nearest' });
     }
   }
 

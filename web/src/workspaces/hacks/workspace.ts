@@ -20,7 +20,16 @@ import { Panels } from './panels';
 export interface ScenePart { name: string; type: string; frame: Frame; mesh: PartMesh; primTypes: Record<string, string>; ghost?: boolean }
 
 /** A connect the check refused: not in the design, shown until dismissed. */
-export interface FailedConnect { conn: Connection; step: CheckStep | null; message: string; check: CheckResult | null }
+export interface FailedConnect {
+  conn: Connection; step: CheckStep | null; message: string; check: CheckResult | null;
+  /** 'connect': the check refused it; 'inventory': all owned parts of that kind are in use. */
+  kind?: 'connect' | 'inventory';
+  /** Set once the camera has framed the failing parts (only once per failure). */
+  framed?: boolean;
+}
+
+/** What the failure layer shows: the gap between the failing primitives at the best configuration found. */
+export interface FailureView { gap_mm: number | null; a: Vec3 | null; b: Vec3 | null; suggestion: string; framed: boolean }
 
 export class HacksWorkspace implements MountedWorkspace {
   readonly api: HacksApi;
@@ -75,6 +84,8 @@ export class HacksWorkspace implements MountedWorkspace {
       /** Scene keys ("inst.prim") that have a mesh in the 3D view, with their triangle counts. */
       /** The goal and the achieved point of the target's primitive (mm), with the label's text. */
       goal: () => this.goal,
+      /** The refused connect as the 3D view shows it (gap between the failing primitives, suggestion). */
+      failure: () => this.failure,
       sceneMeshes: () => Object.fromEntries([...scene.pieces].map(([k, m]) => [k, (m.geometry.index?.count ?? 0) / 3])),
     };
     void ctx.track(this.load());
@@ -242,6 +253,7 @@ export class HacksWorkspace implements MountedWorkspace {
     if (d.target && !seen.has(d.target.name)) await add(d.target.name, d.target.part, this.partFrameFromPrimFrame(d.target.part, d.target.primitive, d.target.frame), true);
     this.drawParts(parts);
     await this.drawGoal(placed);
+    this.drawFailure();
     const scene = this.ctx.scene;
     const slipping = this.slippingConnections();
     const sel = this.ctx.selection.current;
@@ -338,6 +350,97 @@ export class HacksWorkspace implements MountedWorkspace {
     const text = solved ? `${t.name}: ${describeError(solved)}` : `${t.name}: ${distance.toFixed(1)} mm from its goal (before solving)`;
     scene.addLabel('goal', achieved.clone().lerp(goalPos, 0.5), text, { class: onTarget ? 'ok' : 'off', 'data-testid': 'goal-error-label' });
     this.goal = { goal: v3(goalPos), achieved: v3(achieved), distance_mm: distance, text };
+  }
+
+  failure: FailureView | null = null;
+
+  /**
+   * The failure layer: where a refused connect is explained — a callout in the 3D view next to
+   * the failing primitives with the diagnostic, for a cycle that cannot close a red line across
+   * the gap (closest points of the two primitives at the best configuration found) with its
+   * length and a suggestion of parts that span it; the camera frames the failing parts once.
+   */
+  private drawFailure(): void {
+    const scene = this.ctx.scene;
+    scene.clearLayer('failure');
+    this.failure = null;
+    const f = this.failed;
+    if (!f) return;
+    const layer = scene.layer('failure');
+    const ma = scene.pieces.get(f.conn.a), mb = scene.pieces.get(f.conn.b);
+    let a: THREE.Vector3 | null = null, b: THREE.Vector3 | null = null, gap: number | null = null;
+    if (ma && mb && f.step?.best_part_frames) {
+      [a, b] = closestPoints(ma, mb);
+      gap = a.distanceTo(b);
+      const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints([a, b]), new THREE.LineBasicMaterial({ color: 0xe01010 }));
+      const dot = (p: THREE.Vector3) => { const s = new THREE.Mesh(new THREE.SphereGeometry(3, 12, 8), new THREE.MeshBasicMaterial({ color: 0xe01010 })); s.position.copy(p); return s; };
+      layer.add(line, dot(a), dot(b));
+      layer.updateMatrixWorld(true);
+    }
+    const suggestion = gap !== null && gap > 1 ? this.suggestSpan(f.conn, gap) : '';
+    const anchorMesh = mb ?? ma;
+    const anchor = a && b ? a.clone().lerp(b, 0.5)
+      : anchorMesh ? new THREE.Box3().setFromObject(anchorMesh).getCenter(new THREE.Vector3()) : null;
+    if (anchor) {
+      const box = document.createElement('div');
+      const title = f.kind === 'inventory' ? 'Not added (inventory): ' : 'Not added: ';
+      box.append(Object.assign(document.createElement('b'), { textContent: `${title}${f.conn.a} – ${f.conn.b}` }),
+        Object.assign(document.createElement('div'), { className: 'diag', textContent: f.message }));
+      if (gap !== null) box.append(Object.assign(document.createElement('div'), { textContent: `red line: a gap of ${gap.toFixed(1)} mm between the two primitives in the closest configuration found`, className: 'gap' }));
+      if (suggestion) box.append(Object.assign(document.createElement('div'), { textContent: suggestion, className: 'suggestion' }));
+      const dismiss = Object.assign(document.createElement('button'), { textContent: 'Dismiss', title: 'Back to the design (the connection is not added)' });
+      dismiss.dataset.testid = 'failure-dismiss';
+      dismiss.addEventListener('click', () => this.dismissFailed());
+      box.append(dismiss);
+      scene.addLabel('failure', anchor, box, { class: 'failure', 'data-testid': 'failure-callout' });
+    }
+    const v3 = (v: THREE.Vector3 | null): Vec3 | null => (v ? [v.x, v.y, v.z] : null);
+    if (!f.framed) {
+      f.framed = true;
+      const box = new THREE.Box3();
+      // the failing primitives, and the parts they belong to unless those are environment (a wall)
+      const envs = new Set(this.design.environment.map((e) => e.name));
+      for (const key of [f.conn.a, f.conn.b]) {
+        const m = scene.pieces.get(key); if (m) box.expandByObject(m);
+        const inst = key.split('.')[0];
+        if (envs.has(inst)) continue;
+        for (const [k, pm] of scene.pieces) if (k.split('.')[0] === inst) box.expandByObject(pm);
+        const body = scene.bodies.get(inst); if (body) box.expandByObject(body);
+      }
+      if (a && b) box.expandByPoint(a).expandByPoint(b);
+      if (!box.isEmpty()) scene.frameBox(box);
+    }
+    this.failure = { gap_mm: gap, a: v3(a), b: v3(b), suggestion, framed: !!f.framed };
+  }
+
+  /**
+   * Two-primitive library parts that could bridge a gap between the failing primitives: each
+   * end must connect (Table 1) to its neighbour, the span is the distance between the part's two
+   * primitive frames. The fewest parts first; returns one sentence, or '' when nothing fits.
+   */
+  private suggestSpan(conn: Connection, gap: number): string {
+    const ta = this.primTypeOf(conn.a), tb = this.primTypeOf(conn.b);
+    if (!ta || !tb) return '';
+    const ok = (x: string, y: string) => this.typeConnects.get(x)?.has(y) ?? false;
+    const options: { name: string; n: number; span: number }[] = [];
+    for (const p of this.library) {
+      if (p.category === 'environment' || p.primitives.length !== 2 || p.params.length) continue;
+      const [p1, p2] = p.primitives;
+      const span = new THREE.Vector3(...p1.frame.pos).distanceTo(new THREE.Vector3(...p2.frame.pos));
+      if (span < 5) continue;
+      const chains = ok(p2.type, p1.type); // copies hang from one another
+      const fits = (x: typeof p1, y: typeof p1) => ok(ta, x.type) && ok(y.type, tb);
+      if (!fits(p1, p2) && !fits(p2, p1)) continue;
+      const n = Math.ceil(gap / span);
+      if (n > 1 && !chains) continue;
+      if (n > 20) continue;
+      options.push({ name: p.name, n, span });
+    }
+    options.sort((x, y) => x.n - y.n || x.span - y.span);
+    if (!options.length) return '';
+    const say = (o: { name: string; n: number; span: number }) => `${o.n === 1 ? 'one more' : `a chain of ${o.n} more`} ${o.name} (${o.span.toFixed(0)} mm each)`;
+    const alt = options.find((o) => o.name !== options[0].name && o.n > options[0].n);
+    return `Suggestion: ${say(options[0])} would span the ${gap.toFixed(0)} mm gap${alt ? `; or ${say(alt)}` : ''}.`;
   }
 
   /** The user's "does it do what I asked" tolerance (kept in local storage). */
@@ -437,8 +540,11 @@ export class HacksWorkspace implements MountedWorkspace {
     if (lib) {
       const owned = this.inventory.limit(lib.part);
       if (owned !== undefined && countOf(next, lib.part) >= owned) {
-        await this.afterPickChange();
-        this.ctx.message(`Inventory: you own ${owned} ${lib.part} and all ${owned} are already in the design; cannot add another.`);
+        const msg = `Inventory: you own ${owned} ${lib.part} and all ${owned} are already in the design; cannot add another (change "owned" under Primitives).`;
+        this.failed = { conn: { a: `(new ${lib.part}).${lib.prim}`, b }, step: null, message: msg, check: null, kind: 'inventory' };
+        this.compat = new Map(); this.panels.pickLabel();
+        await this.updateScene();
+        this.panels.render();
         return;
       }
       let name = (this.nameDraft?.part === lib.part ? this.nameDraft.name.trim() : '') || freshName(next, lib.part.toLowerCase());
@@ -530,6 +636,21 @@ export class HacksWorkspace implements MountedWorkspace {
     try { download(`${fileStem(this.design.name)}.glb`, await this.api.solveGlb(designToYaml(this.design)), 'model/gltf-binary'); this.ctx.status(''); }
     catch (e) { this.ctx.status(''); this.ctx.message(`.glb export failed: ${(e as Error).message}`); }
   }
+}
+
+/** Closest pair of vertices of two meshes (world coordinates); meshes are subsampled to ≤ 1500 vertices each. */
+function closestPoints(a: THREE.Mesh, b: THREE.Mesh): [THREE.Vector3, THREE.Vector3] {
+  const pts = (m: THREE.Mesh) => {
+    const pos = m.geometry.getAttribute('position');
+    const step = Math.max(1, Math.floor(pos.count / 1500));
+    const out: THREE.Vector3[] = [];
+    for (let i = 0; i < pos.count; i += step) out.push(new THREE.Vector3().fromBufferAttribute(pos, i).applyMatrix4(m.matrixWorld));
+    return out;
+  };
+  const pa = pts(a), pb = pts(b);
+  let best = Infinity, ba = pa[0], bb = pb[0];
+  for (const x of pa) for (const y of pb) { const d = x.distanceToSquared(y); if (d < best) { best = d; ba = x; bb = y; } }
+  return [ba.clone(), bb.clone()];
 }
 
 /** "18.0 mm off, tilt 0.0°, twist 0.0° about the vertical" from a solve's target error. */
