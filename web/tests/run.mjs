@@ -437,6 +437,45 @@ try {
     await p.close();
   });
 
+  await test('r selection-feedback', async () => {
+    const p = await freshPage();
+    await selectLibPart(p, 'TowelRack', 'ClosetRods');
+    await click(p, 'set-environment');
+    await selectLibPart(p, 'HookEyeConnector', 'HookEyeConnector');
+    await click(p, 'lib-prim-ring');
+    const label = await p.getByTestId('selection-label').textContent();
+    assert(label.includes('ring') && label.includes('HookEyeConnector'), `label while a library primitive is picked: ${label}`);
+    const cls = await p.getByTestId('lib-prim-ring').getAttribute('class');
+    assert(cls.includes('picked') && !cls.includes('dim'), `picked primitive: ${cls}`);
+    // the pick banner does not cover the view buttons
+    const banner = await p.getByTestId('pick-label').boundingBox();
+    for (const b of ['view-all', 'view-top', 'view-front', 'view-side', 'view-iso']) {
+      const r = await p.getByTestId(b).boundingBox();
+      const overlap = banner.x < r.x + r.width && r.x < banner.x + banner.width && banner.y < r.y + r.height && r.y < banner.y + banner.height;
+      assert(!overlap, `pick banner covers ${b}`);
+    }
+    await p.keyboard.press('Escape'); await idle(p);
+    // hovering a primitive in the 3D view highlights it
+    const pt = await p.evaluate(() => window.__fabkit.screenPointOf('env1.rod1'));
+    await p.mouse.move(pt.x, pt.y);
+    assert((await p.evaluate(() => window.__fabkit.hovered())) === 'env1.rod1', 'hover not tracked');
+    const hovered = await p.evaluate(() => window.__fabkit.styleOf('env1.rod1'));
+    const plain = await p.evaluate(() => window.__fabkit.styleOf('env1.rod2'));
+    assert(hovered.emissive !== plain.emissive && hovered.outlineWidth > plain.outlineWidth, `hover: ${JSON.stringify(hovered)} vs ${JSON.stringify(plain)}`);
+    await p.mouse.move(0, 0);
+    // a selected part has an outline and is named
+    await click(p, 'select-env1');
+    const sel = await p.evaluate(() => window.__fabkit.styleOf('env1.rod2'));
+    assert(sel.outline === 0xff9800 && sel.outlineWidth >= 3, `selected part outline: ${JSON.stringify(sel)}`);
+    assert((await p.getByTestId('selection-label').textContent()).includes('env1 (ClosetRods)'), 'label');
+    // opening another design forgets the old selection (asks first: the design is unsaved)
+    await p.getByTestId('open-file').setInputFiles(path.join(repo, 'examples/hacks/toothbrush_holder.yaml'));
+    await p.getByTestId('confirm-ok').click();
+    await idle(p);
+    assert((await p.getByTestId('selection-label').textContent()) === 'Nothing selected', 'stale selection after open');
+    await p.close();
+  });
+
   await test('h load-design-from-server', async () => {
     const p = await freshPage(url2);
     assert((await connectionTexts(p)).length === 4, 'design from the server not loaded');

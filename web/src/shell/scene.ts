@@ -35,6 +35,31 @@ export function geometryOf(m: MeshData): THREE.BufferGeometry {
 
 /** How a pickable mesh is drawn; set by the workspace, applied by restyle(). */
 export interface PickState { dim?: boolean; selected?: boolean; bad?: boolean; picked?: boolean }
+
+const SELECTED = 0xff9800, HOVER = 0x2f6fff;
+
+/**
+ * An outline drawn as an inverted hull: the mesh's back faces pushed out along the normals by a
+ * fixed number of pixels, so it has the same screen width at any zoom. It marks the selection
+ * and gives thin wires (2 mm S-hooks) a minimum visible width when zoomed out.
+ */
+export function outlineMaterial(color: number, widthPx: number): THREE.ShaderMaterial {
+  return new THREE.ShaderMaterial({
+    uniforms: { color: { value: new THREE.Color(color) }, width: { value: widthPx }, resolution: { value: new THREE.Vector2(1000, 1000) } },
+    vertexShader: `
+      uniform float width; uniform vec2 resolution;
+      void main() {
+        vec4 clip = projectionMatrix * modelViewMatrix * vec4(position, 1.0);
+        vec3 n = normalize(normalMatrix * normal);
+        vec2 dir = (projectionMatrix * vec4(n, 0.0)).xy;
+        float len = length(dir);
+        if (len > 1e-6) clip.xy += dir / len * width * 2.0 / resolution * clip.w;
+        gl_Position = clip;
+      }`,
+    fragmentShader: 'uniform vec3 color; void main() { gl_FragColor = vec4(color, 1.0); }',
+    side: THREE.BackSide,
+  });
+}
 export type ViewName = 'top' | 'front' | 'side' | 'iso';
 
 export class SceneView {
@@ -51,6 +76,10 @@ export class SceneView {
   private raycaster = new THREE.Raycaster();
   private state = new Map<string, PickState>();
   selectedObject: string | null = null;
+  /** The piece (or object body) under the pointer: highlighted in blue. */
+  hovered: string | null = null;
+  /** Outline meshes by the key of the mesh they outline. */
+  private outlines = new Map<THREE.Mesh, THREE.Mesh>();
   onPick: (piece: string | null, object: string | null) => void = () => {};
   onHover: (piece: string | null, x: number, y: number) => void = () => {};
   /** Called after every render (overlays that follow the camera). */
@@ -91,14 +120,19 @@ export class SceneView {
       }
       down = null;
     });
-    el.addEventListener('pointerleave', (e) => { this.onHover(null, e.clientX, e.clientY); });
-    el.addEventListener('pointermove', (e) => { this.onHover(this.pickAt(e.clientX, e.clientY).piece, e.clientX, e.clientY); });
+    el.addEventListener('pointerleave', (e) => { this.setHover(null); this.onHover(null, e.clientX, e.clientY); });
+    el.addEventListener('pointermove', (e) => {
+      const hit = this.pickAt(e.clientX, e.clientY);
+      this.setHover(hit.piece ?? hit.object);
+      this.onHover(hit.piece, e.clientX, e.clientY);
+    });
   }
 
   resize(): void {
     const w = Math.max(1, this.host.clientWidth), h = Math.max(1, this.host.clientHeight);
     this.renderer.setSize(w, h, true);
     this.camera.aspect = w / h; this.camera.updateProjectionMatrix();
+    for (const hull of this.outlines.values()) (hull.material as THREE.ShaderMaterial).uniforms.resolution.value.set(w, h);
     this.render();
   }
 
@@ -151,6 +185,7 @@ export class SceneView {
       c.traverse((o) => { if ((o as THREE.Mesh).geometry) (o as THREE.Mesh).geometry.dispose(); });
     }
     this.labels = this.labels.filter((l) => { if (l.layer !== name) return true; l.el.remove(); return false; });
+    for (const [m, hull] of [...this.outlines]) if (!this.inScene(m)) { (hull.material as THREE.Material).dispose(); this.outlines.delete(m); }
     for (const [k, m] of [...this.pieces]) if (!this.inScene(m)) this.pieces.delete(k);
     for (const [k, m] of [...this.bodies]) if (!this.inScene(m)) this.bodies.delete(k);
   }
@@ -158,7 +193,7 @@ export class SceneView {
   /** Removes every layer (switching workspaces). */
   clearAll(): void {
     for (const name of [...this.layers.keys()]) { this.clearLayer(name); this.root.remove(this.layers.get(name)!); }
-    this.layers.clear(); this.state.clear(); this.selectedObject = null;
+    this.layers.clear(); this.state.clear(); this.selectedObject = null; this.hovered = null;
     this.render();
   }
 
@@ -174,24 +209,66 @@ export class SceneView {
   pickable(mesh: THREE.Mesh, object: string, piece: string | null, color: number): void {
     mesh.userData = { ...mesh.userData, object, piece, color };
     if (piece) this.pieces.set(piece, mesh); else this.bodies.set(object, mesh);
+    // every pickable gets a hull outline: thin and dark normally (thin wires stay visible),
+    // wide and orange when selected, blue when hovered
+    const hull = new THREE.Mesh(mesh.geometry, outlineMaterial(0x333333, 0.8));
+    hull.userData.outline = true;
+    hull.raycast = () => {};
+    mesh.add(hull);
+    this.outlines.set(mesh, hull);
+  }
+
+  /** Highlights the piece or object under the pointer (also from lists: hovering an item). */
+  setHover(key: string | null): void {
+    if (this.hovered === key) return;
+    this.hovered = key;
+    this.restyle();
   }
 
   setState(key: string, s: PickState): void { this.state.set(key, s); }
   clearStates(): void { this.state.clear(); }
 
   restyle(): void {
+    const size = this.renderer.getSize(new THREE.Vector2());
+    const style = (mesh: THREE.Mesh, selected: boolean, hovered: boolean, dim: boolean) => {
+      const hull = this.outlines.get(mesh); if (!hull) return;
+      const m = hull.material as THREE.ShaderMaterial;
+      m.uniforms.resolution.value.copy(size);
+      m.uniforms.color.value.setHex(selected ? SELECTED : hovered ? HOVER : 0x333333);
+      m.uniforms.width.value = selected ? 3 : hovered ? 2.5 : 0.8;
+      hull.visible = !dim && !mesh.userData.ghost;
+    };
     for (const [key, mesh] of this.pieces) {
       const s = this.state.get(key) ?? {};
       const mat = mesh.material as THREE.MeshStandardMaterial;
+      const inSelected = mesh.userData.object === this.selectedObject;
+      const hovered = this.hovered === key;
       mat.color.setHex(s.bad ? 0xff0000 : mesh.userData.color);
-      mat.emissive.setHex(s.bad ? 0x660000 : s.selected || s.picked ? 0xffcc00 : mesh.userData.object === this.selectedObject ? 0x665500 : 0x000000);
+      mat.emissive.setHex(s.bad ? 0x660000 : s.selected || s.picked ? 0x886600 : hovered ? 0x1a3a88 : inSelected ? 0x443300 : 0x000000);
       if (!mesh.userData.ghost) mat.opacity = s.dim ? 0.15 : 1;
+      style(mesh, !!(s.selected || s.picked || (inSelected && !this.pieceSelected())), hovered, !!s.dim);
     }
     for (const [name, mesh] of this.bodies) {
       const mat = mesh.material as THREE.MeshStandardMaterial;
-      mat.emissive.setHex(name === this.selectedObject ? 0x665500 : 0x000000);
+      const hovered = this.hovered === name;
+      mat.emissive.setHex(name === this.selectedObject ? 0x443300 : hovered ? 0x1a3a88 : 0x000000);
+      style(mesh, name === this.selectedObject && !this.pieceSelected(), hovered, false);
     }
     this.render();
+  }
+
+  /** True when a piece (not only an object) is selected or picked. */
+  private pieceSelected(): boolean {
+    for (const s of this.state.values()) if (s.selected || s.picked) return true;
+    return false;
+  }
+
+  /** How a piece or body is drawn now (for tests): its emissive colour and outline. */
+  styleOf(key: string): { emissive: number; outline: number; outlineWidth: number } | null {
+    const mesh = this.pieces.get(key) ?? this.bodies.get(key); if (!mesh) return null;
+    const hull = this.outlines.get(mesh)!;
+    const u = (hull.material as THREE.ShaderMaterial).uniforms;
+    return { emissive: (mesh.material as THREE.MeshStandardMaterial).emissive.getHex(), outline: u.color.value.getHex(), outlineWidth: hull.visible ? u.width.value : 0 };
   }
 
   pickAt(clientX: number, clientY: number): { piece: string | null; object: string | null } {

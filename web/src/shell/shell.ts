@@ -180,6 +180,7 @@ export class Shell {
     if (kit !== this.kit) this.switchTo(kit);
     if (!(await this.confirmDiscard(`Open ${name}?`))) return;
     this.message('');
+    this.selection.clear(); // the previous design's selection means nothing in this one
     this.history!.apply(doc, `open ${name}`);
     this.history!.markSaved();
     this.storage.setDocument(kit, module.serialize(doc), false);

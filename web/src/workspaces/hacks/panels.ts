@@ -321,6 +321,8 @@ export class Panels {
         'data-testid': `scene-prim-${key}`, title: dim ? c!.reason : loose ? 'loose primitive: sizes are checked when you connect' : '',
       }, el('span', {}, key), el('small', {}, type + (loose ? ' (loose)' : '') + (dim ? ' — cannot connect' : '') + (bad ? ' — failed connect' : '')));
       li.addEventListener('click', () => void w.ctx.track(w.pickScene(key)));
+      li.addEventListener('mouseenter', () => w.ctx.scene.setHover(key));
+      li.addEventListener('mouseleave', () => w.ctx.scene.setHover(null));
       host.append(li);
     }
   }

@@ -86,6 +86,9 @@ export class HacksWorkspace implements MountedWorkspace {
       goal: () => this.goal,
       /** The refused connect as the 3D view shows it (gap between the failing primitives, suggestion). */
       failure: () => this.failure,
+      /** How a scene key is drawn: emissive colour, outline colour and width (px). */
+      styleOf: (key: string) => scene.styleOf(key),
+      hovered: () => scene.hovered,
       sceneMeshes: () => Object.fromEntries([...scene.pieces].map(([k, m]) => [k, (m.geometry.index?.count ?? 0) / 3])),
     };
     void ctx.track(this.load());
@@ -149,6 +152,8 @@ export class HacksWorkspace implements MountedWorkspace {
   }
 
   describeSelection(sel: SelectionState): string {
+    const lib = this.pick?.lib;
+    if (lib) return `Picked: primitive ${lib.prim} (${this.partInfo(lib.part)?.primitives.find((p) => p.name === lib.prim)?.type ?? '?'}) of a new ${lib.part} — click a primitive in the scene to connect it (Esc cancels)`;
     if (sel.piece) {
       const inst = sel.piece.split('.')[0];
       const type = this.primTypeOf(sel.piece);
@@ -282,12 +287,14 @@ export class HacksWorkspace implements MountedWorkspace {
       if (p.mesh.body.faces.length) { // loose-primitive environments have no body
         const body = new THREE.Mesh(geometryOf(p.mesh.body), new THREE.MeshStandardMaterial({ color: 0xc8c8c8, transparent: !!p.ghost, opacity: p.ghost ? 0.35 : 1, roughness: 0.8, polygonOffset: true, polygonOffsetFactor: 2, polygonOffsetUnits: 2 }));
         scene.pickable(body, p.name, null, 0xc8c8c8);
+        if (p.ghost) body.userData.ghost = true;
         g.add(body);
       }
       for (const [prim, m] of Object.entries(p.mesh.primitives)) {
         const color = PRIM_COLORS[p.primTypes[prim]] ?? 0x999999;
         const mesh = new THREE.Mesh(geometryOf(m), new THREE.MeshStandardMaterial({ color, transparent: true, opacity: p.ghost ? 0.5 : 1, roughness: 0.5 }));
         scene.pickable(mesh, p.name, `${p.name}.${prim}`, color);
+        if (p.ghost) mesh.userData.ghost = true;
         g.add(mesh);
       }
       layer.add(g);
@@ -496,6 +503,7 @@ export class HacksWorkspace implements MountedWorkspace {
       const r = this.refOf(key); if (r) { keys.push(key); refs.push(r); }
     }
     if (lib) for (const p of lib.primitives) {
+      if (pick.lib && pick.lib.part === lib.name && pick.lib.prim === p.name) continue; // the picked one itself
       if (!a) { this.compat.set(`lib:${lib.name}.${p.name}`, this.typeRule(aType, p.type)); continue; }
       keys.push(`lib:${lib.name}.${p.name}`); refs.push({ part: lib.name, primitive: p.name });
     }
