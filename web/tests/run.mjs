@@ -476,6 +476,44 @@ try {
     await p.close();
   });
 
+  await test('s no-lost-work', async () => {
+    const p = await freshPage();
+    await selectLibPart(p, 'TowelRack', 'ClosetRods');
+    await click(p, 'set-environment');
+    await selectLibPart(p, 'HookEyeConnector', 'HookEyeConnector');
+    await setField(p, 'owned-count', 3);
+    await connectNew(p, 'HookEyeConnector', 'eyehook1', 'hook', 'env1.rod1');
+    const before = await p.evaluate(() => window.__fabkit.designYaml());
+    assert(before.includes('eyehook1'), before);
+    // a reload restores the design and the inventory
+    await p.reload(); await idle(p);
+    assert((await p.evaluate(() => window.__fabkit.designYaml())) === before, 'design lost on reload');
+    await selectLibPart(p, 'HookEyeConnector', 'HookEyeConnector');
+    assert((await p.getByTestId('owned-count').inputValue()) === '3', 'owned count lost on reload');
+    // opening a file over unsaved work asks; Cancel keeps the design
+    const toothbrush = path.join(repo, 'examples/hacks/toothbrush_holder.yaml');
+    await p.getByTestId('open-file').setInputFiles(toothbrush);
+    await p.getByTestId('confirm').waitFor();
+    assert((await p.getByTestId('confirm-text').textContent()).includes('not saved'), 'confirm text');
+    await p.getByTestId('confirm-cancel').click(); await idle(p);
+    assert((await p.evaluate(() => window.__fabkit.designYaml())) === before, 'cancel replaced the design');
+    // opening is an undoable step
+    await p.getByTestId('open-file').setInputFiles(toothbrush);
+    await p.getByTestId('confirm-ok').click(); await idle(p);
+    assert((await p.evaluate(() => window.__fabkit.designYaml())).includes('toothbrush'), 'file not opened');
+    await click(p, 'undo');
+    assert((await p.evaluate(() => window.__fabkit.designYaml())) === before, 'undo of open did not bring the design back');
+    await click(p, 'redo');
+    // after Save YAML nothing is unsaved: New does not ask, and is undoable too
+    await Promise.all([p.waitForEvent('download'), p.getByTestId('save-yaml').click()]);
+    await click(p, 'new-design');
+    assert(!(await p.getByTestId('confirm').isVisible()), 'asked although saved');
+    assert(!(await p.evaluate(() => window.__fabkit.designYaml())).includes('toothbrush'), 'new did not empty the design');
+    await click(p, 'undo');
+    assert((await p.evaluate(() => window.__fabkit.designYaml())).includes('toothbrush'), 'undo of new');
+    await p.close();
+  });
+
   await test('h load-design-from-server', async () => {
     const p = await freshPage(url2);
     assert((await connectionTexts(p)).length === 4, 'design from the server not loaded');

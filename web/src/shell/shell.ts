@@ -186,6 +186,16 @@ export class Shell {
     this.storage.setDocument(kit, module.serialize(doc), false);
   }
 
+  /** An empty design as an undoable step (asks first when the current one is unsaved). */
+  async newDesign(): Promise<void> {
+    const a = this.active; if (!a) return;
+    if (!(await this.confirmDiscard('Start a new, empty design?'))) return;
+    this.selection.clear();
+    a.history.apply(a.module.empty(), 'new design');
+    a.history.markSaved();
+    this.storage.setDocument(a.module.kit, a.module.serialize(a.history.current), false);
+  }
+
   private save(): void {
     const a = this.active; if (!a) return;
     download(`${fileStem(a.module.nameOf(a.history.current))}.yaml`, a.module.serialize(a.history.current), 'application/x-yaml');
@@ -197,6 +207,7 @@ export class Shell {
     $('undo').addEventListener('click', () => this.history?.undo());
     $('redo').addEventListener('click', () => this.history?.redo());
     $('save-yaml').addEventListener('click', () => this.save());
+    $('new-design').addEventListener('click', () => void this.track(this.newDesign()));
     $('view-all').addEventListener('click', () => this.scene.frameAll());
     for (const v of ['top', 'front', 'side', 'iso'] as const) $(`view-${v}`).addEventListener('click', () => this.scene.view(v));
     ($('workspace-switcher') as HTMLSelectElement).addEventListener('change', (e) => this.switchTo((e.target as HTMLSelectElement).value));
