@@ -514,6 +514,53 @@ try {
     await p.close();
   });
 
+  await test('t navigation', async () => {
+    const p = await freshPage();
+    await p.getByTestId('open-file').setInputFiles(path.join(repo, 'examples/hacks/reading_nook.yaml'));
+    await idle(p);
+    const canvas = await p.getByTestId('scene-canvas').boundingBox();
+    const centre = { x: canvas.x + canvas.width / 2, y: canvas.y + canvas.height / 2 };
+    const inCanvas = (q) => q && q.x >= canvas.x && q.x <= canvas.x + canvas.width && q.y >= canvas.y && q.y <= canvas.y + canvas.height;
+    // the wheel zooms towards the point under the pointer: that point stays where it is
+    await click(p, 'view-iso');
+    const a = await p.evaluate(() => window.__fabkit.project('turnbuckle'));
+    assert(Math.hypot(a.x - centre.x, a.y - centre.y) > 60, `turnbuckle too close to the centre for the test: ${JSON.stringify(a)}`);
+    await p.mouse.move(a.x, a.y);
+    for (let i = 0; i < 3; ++i) await p.mouse.wheel(0, -300);
+    const b = await p.evaluate(() => window.__fabkit.project('turnbuckle'));
+    const camAfterZoom = await p.evaluate(() => window.__fabkit.camera());
+    assert(Math.hypot(b.x - a.x, b.y - a.y) < 12, `zoom moved the point under the cursor: ${JSON.stringify(a)} → ${JSON.stringify(b)}`);
+    // frame selection puts the selected part in the middle
+    await click(p, 'select-turnbuckle');
+    await click(p, 'view-selection');
+    const c = await p.evaluate(() => window.__fabkit.project('turnbuckle'));
+    assert(Math.hypot(c.x - centre.x, c.y - centre.y) < 6, `frame selection: ${JSON.stringify(c)} vs centre ${JSON.stringify(centre)}`);
+    assert((await p.evaluate(() => window.__fabkit.camera())).position.join() !== camAfterZoom.position.join(), 'camera did not move');
+    // standard views are orthographic, Iso perspective
+    await click(p, 'view-front');
+    assert((await p.evaluate(() => window.__fabkit.camera())).type === 'OrthographicCamera', 'front view not orthographic');
+    // the room's wall hides the hoop from the front; see-through lets it be seen and clicked
+    assert(!(await p.evaluate(() => window.__fabkit.screenPointOf('hoop.ring'))), 'hoop visible through the wall (test precondition)');
+    await click(p, 'display-room');
+    assert((await p.evaluate(() => window.__fabkit.displayOf('room'))) === 'xray', 'room not see-through');
+    assert(await p.evaluate(() => window.__fabkit.screenPointOf('hoop.ring')), 'hoop not clickable through the see-through room');
+    await shot(p, 'reading-nook-see-through');
+    await click(p, 'display-room');
+    assert((await p.evaluate(() => window.__fabkit.displayOf('room'))) === 'hidden', 'room not hidden');
+    await click(p, 'view-show-all');
+    assert((await p.evaluate(() => window.__fabkit.displayOf('room'))) === 'normal', 'show all');
+    await click(p, 'isolate-hoop');
+    assert((await p.evaluate(() => [window.__fabkit.displayOf('room'), window.__fabkit.displayOf('hoop')])).join() === 'hidden,normal', 'isolate');
+    await click(p, 'isolate-hoop');
+    assert((await p.evaluate(() => window.__fabkit.displayOf('room'))) === 'normal', 'isolate again shows all');
+    await click(p, 'view-iso');
+    assert((await p.evaluate(() => window.__fabkit.camera())).type === 'PerspectiveCamera', 'iso not perspective');
+    // an edit that moves everything out of the view: the camera follows
+    await setField(p, 'frame-env-0-x', 20000);
+    assert(inCanvas(await p.evaluate(() => window.__fabkit.project('hoop'))), 'camera did not follow the moved scene');
+    await p.close();
+  });
+
   await test('h load-design-from-server', async () => {
     const p = await freshPage(url2);
     assert((await connectionTexts(p)).length === 4, 'design from the server not loaded');

@@ -65,7 +65,14 @@ export type ViewName = 'top' | 'front' | 'side' | 'iso';
 export class SceneView {
   renderer: THREE.WebGLRenderer;
   scene = new THREE.Scene();
-  camera: THREE.PerspectiveCamera;
+  /** The active camera: perspective (orbiting, Iso) or orthographic (the standard views). */
+  camera: THREE.PerspectiveCamera | THREE.OrthographicCamera;
+  readonly perspective: THREE.PerspectiveCamera;
+  readonly orthographic: THREE.OrthographicCamera;
+  /** How an object is shown: hidden and see-through objects are not picked. */
+  private display = new Map<string, 'hidden' | 'xray'>();
+  /** Objects shown alone ("isolate"); null: all. */
+  private isolated: Set<string> | null = null;
   controls: OrbitControls;
   /** Everything workspaces draw lives under root (framing uses it). */
   readonly root = new THREE.Group();
@@ -97,11 +104,13 @@ export class SceneView {
     this.labelHost.className = 'scene-labels';
     host.appendChild(this.labelHost);
     this.renderer.domElement.dataset.testid = 'scene-canvas';
-    this.camera = new THREE.PerspectiveCamera(40, 1, 1, 20000);
-    this.camera.up.set(0, 0, 1);
-    this.camera.position.set(800, -800, 600);
+    this.perspective = new THREE.PerspectiveCamera(40, 1, 1, 20000);
+    this.orthographic = new THREE.OrthographicCamera(-500, 500, 500, -500, -20000, 20000);
+    for (const c of [this.perspective, this.orthographic]) { c.up.set(0, 0, 1); c.position.set(800, -800, 600); }
+    this.camera = this.perspective;
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.enableDamping = false;
+    this.controls.zoomToCursor = true; // the wheel zooms towards the point under the pointer
     this.controls.addEventListener('change', () => this.render());
     this.scene.add(new THREE.HemisphereLight(0xffffff, 0x667788, 1.6));
     const sun = new THREE.DirectionalLight(0xffffff, 1.4); sun.position.set(1, -2, 3); this.scene.add(sun);
@@ -131,7 +140,8 @@ export class SceneView {
   resize(): void {
     const w = Math.max(1, this.host.clientWidth), h = Math.max(1, this.host.clientHeight);
     this.renderer.setSize(w, h, true);
-    this.camera.aspect = w / h; this.camera.updateProjectionMatrix();
+    this.perspective.aspect = w / h; this.perspective.updateProjectionMatrix();
+    this.setOrthoHeight(this.orthoHalfHeight);
     for (const hull of this.outlines.values()) (hull.material as THREE.ShaderMaterial).uniforms.resolution.value.set(w, h);
     this.render();
   }
@@ -247,14 +257,31 @@ export class SceneView {
       mat.emissive.setHex(s.bad ? 0x660000 : s.selected || s.picked ? 0x886600 : hovered ? 0x1a3a88 : inSelected ? 0x443300 : 0x000000);
       if (!mesh.userData.ghost) mat.opacity = s.dim ? 0.15 : 1;
       style(mesh, !!(s.selected || s.picked || (inSelected && !this.pieceSelected())), hovered, !!s.dim);
+      this.applyDisplay(mesh);
     }
     for (const [name, mesh] of this.bodies) {
       const mat = mesh.material as THREE.MeshStandardMaterial;
       const hovered = this.hovered === name;
       mat.emissive.setHex(name === this.selectedObject ? 0x443300 : hovered ? 0x1a3a88 : 0x000000);
       style(mesh, name === this.selectedObject && !this.pieceSelected(), hovered, false);
+      this.applyDisplay(mesh);
     }
     this.render();
+  }
+
+  private applyDisplay(mesh: THREE.Mesh): void {
+    const mode = this.displayOf(mesh.userData.object);
+    const mat = mesh.material as THREE.MeshStandardMaterial;
+    mesh.visible = mode !== 'hidden';
+    const wasTransparent = mat.transparent;
+    if (mode === 'xray') { mat.transparent = true; mat.opacity = 0.12; mat.depthWrite = false; }
+    else {
+      mat.depthWrite = true;
+      if (mesh.userData.piece === null) { mat.transparent = !!mesh.userData.ghost; mat.opacity = mesh.userData.ghost ? 0.35 : 1; }
+    }
+    if (wasTransparent !== mat.transparent) mat.needsUpdate = true;
+    const hull = this.outlines.get(mesh);
+    if (hull && mode === 'xray') hull.visible = false;
   }
 
   /** True when a piece (not only an object) is selected or picked. */
@@ -275,10 +302,14 @@ export class SceneView {
     const r = this.renderer.domElement.getBoundingClientRect();
     const ndc = new THREE.Vector2(((clientX - r.left) / r.width) * 2 - 1, -((clientY - r.top) / r.height) * 2 + 1);
     this.raycaster.setFromCamera(ndc, this.camera);
-    const hits = this.raycaster.intersectObjects([...this.pieces.values()], false);
-    if (hits.length) return { piece: hits[0].object.userData.piece, object: hits[0].object.userData.object };
-    const bodies = this.raycaster.intersectObjects([...this.bodies.values()], false);
-    if (bodies.length) return { piece: null, object: bodies[0].object.userData.object };
+    const shown = (m: THREE.Mesh) => this.displayOf(m.userData.object) === 'normal';
+    const hits = this.raycaster.intersectObjects([...this.pieces.values()].filter(shown), false);
+    const bodies = this.raycaster.intersectObjects([...this.bodies.values()].filter(shown), false);
+    // A piece wins over its own object's body (pieces sit on or in their body), but another
+    // object's body in front of it hides it (a wall in front of a hoop).
+    const p = hits[0], b = bodies[0];
+    if (p && !(b && b.distance < p.distance && b.object.userData.object !== p.object.userData.object)) return { piece: p.object.userData.piece, object: p.object.userData.object };
+    if (b) return { piece: null, object: b.object.userData.object };
     return { piece: null, object: null };
   }
 
@@ -297,25 +328,118 @@ export class SceneView {
     return null;
   }
 
-  frameAll(): void { this.frameBox(new THREE.Box3().setFromObject(this.root)); }
+  frameAll(): void { this.frameBox(this.visibleBox()); }
+
+  /** The box of everything shown (hidden objects left out). */
+  visibleBox(filter: (mesh: THREE.Mesh) => boolean = () => true): THREE.Box3 {
+    const box = new THREE.Box3();
+    this.root.updateMatrixWorld(true);
+    this.root.traverseVisible((o) => {
+      const m = o as THREE.Mesh;
+      if ((m.isMesh || (o as THREE.Line).isLine) && !m.userData.outline && filter(m)) box.expandByObject(m, false);
+    });
+    return box;
+  }
+
+  /** Client coordinates of the centre of the meshes of a piece or object key. */
+  projectKey(key: string): { x: number; y: number } | null {
+    const box = this.visibleBox((m) => m.userData.piece === key || m.userData.object === key);
+    if (box.isEmpty()) return null;
+    const v = box.getCenter(new THREE.Vector3()).project(this.camera);
+    const r = this.renderer.domElement.getBoundingClientRect();
+    return { x: r.left + (v.x + 1) / 2 * r.width, y: r.top + (1 - v.y) / 2 * r.height };
+  }
+
+  /** Frames the meshes of an object or piece key ("eyehook1", "eyehook1.hook"); false if there are none. */
+  frameKeys(keys: string[]): boolean {
+    const box = this.visibleBox((m) => keys.includes(m.userData.piece) || keys.includes(m.userData.object));
+    if (box.isEmpty()) return false;
+    this.frameBox(box);
+    return true;
+  }
+
+  private orthoHalfHeight = 500;
+  private setOrthoHeight(half: number): void {
+    this.orthoHalfHeight = half;
+    const w = Math.max(1, this.host.clientWidth), h = Math.max(1, this.host.clientHeight);
+    const o = this.orthographic;
+    o.left = -half * w / h; o.right = half * w / h; o.top = half; o.bottom = -half;
+    o.updateProjectionMatrix();
+  }
+
+  /** Switches between the perspective and the orthographic camera, keeping the view. */
+  setOrthographic(on: boolean): void {
+    const next = on ? this.orthographic : this.perspective;
+    if (next === this.camera) return;
+    const t = this.controls.target;
+    const dist = this.camera.position.distanceTo(t);
+    if (on) { // same apparent size at the target
+      this.setOrthoHeight((dist * Math.tan((this.perspective.fov * Math.PI) / 360)) / this.camera.zoom);
+      this.orthographic.zoom = 1;
+    } else {
+      const half = this.orthoHalfHeight / this.orthographic.zoom;
+      const d = half / Math.tan((this.perspective.fov * Math.PI) / 360);
+      this.perspective.position.copy(t.clone().add(this.camera.position.clone().sub(t).normalize().multiplyScalar(d)));
+    }
+    next.position.copy(on ? this.camera.position : next.position);
+    next.quaternion.copy(this.camera.quaternion);
+    next.updateProjectionMatrix();
+    this.camera = next;
+    this.controls.object = next;
+    this.controls.update();
+    this.restyle();
+  }
 
   /** Points the camera at a box (mm, world) from the current direction so that all of it is in view. */
   frameBox(box: THREE.Box3): void {
     if (box.isEmpty()) { this.render(); return; }
-    const c = box.getCenter(new THREE.Vector3()), size = box.getSize(new THREE.Vector3()).length();
+    const c = box.getCenter(new THREE.Vector3()), size = Math.max(1, box.getSize(new THREE.Vector3()).length());
     const dir = this.camera.position.clone().sub(this.controls.target).normalize();
-    const dist = size / (2 * Math.tan((this.camera.fov * Math.PI) / 360)) * 1.1 + 10;
-    this.controls.target.copy(c);
-    this.camera.position.copy(c.clone().add(dir.multiplyScalar(dist)));
+    if (this.camera === this.orthographic) {
+      this.orthographic.zoom = 1;
+      this.setOrthoHeight(size / 2 * 1.1 + 5);
+      this.controls.target.copy(c);
+      this.camera.position.copy(c.clone().add(dir.multiplyScalar(Math.max(2000, size * 2))));
+    } else {
+      const dist = size / (2 * Math.tan((this.perspective.fov * Math.PI) / 360)) * 1.1 + 10;
+      this.controls.target.copy(c);
+      this.camera.position.copy(c.clone().add(dir.multiplyScalar(dist)));
+    }
     this.camera.updateProjectionMatrix(); this.controls.update(); this.render();
   }
 
+  /** Standard views: Top, Front and Side are orthographic, Iso is perspective. */
   view(name: ViewName): void {
     const dirs = { top: [0, -0.0001, 1], front: [0, -1, 0], side: [1, 0, 0], iso: [1, -1, 0.8] } as const;
+    this.setOrthographic(name !== 'iso');
     const t = this.controls.target;
     const dist = Math.max(100, this.camera.position.distanceTo(t));
     this.camera.position.copy(t.clone().add(new THREE.Vector3(...dirs[name]).normalize().multiplyScalar(dist)));
     this.controls.update();
     this.frameAll();
   }
+
+  /** After an edit: re-frames when nothing shown is in the view any more (the scene moved away). */
+  keepInView(): void {
+    const box = this.visibleBox();
+    if (box.isEmpty()) return;
+    this.camera.updateMatrixWorld();
+    const frustum = new THREE.Frustum().setFromProjectionMatrix(new THREE.Matrix4().multiplyMatrices(this.camera.projectionMatrix, this.camera.matrixWorldInverse));
+    if (!frustum.containsPoint(box.getCenter(new THREE.Vector3())) || !frustum.intersectsBox(box)) this.frameAll();
+  }
+
+  // ---------------------------------------------------------------- hide, see-through, isolate
+  /** Shows an object normally, see-through (drawn faint, clicks pass through) or hidden. */
+  setDisplay(object: string, mode: 'normal' | 'xray' | 'hidden'): void {
+    if (mode === 'normal') this.display.delete(object); else this.display.set(object, mode);
+    this.restyle();
+  }
+  displayOf(object: string): 'normal' | 'xray' | 'hidden' {
+    if (this.isolated && !this.isolated.has(object)) return 'hidden';
+    return this.display.get(object) ?? 'normal';
+  }
+  /** Shows only these objects (null: everything again). */
+  isolate(objects: string[] | null): void { this.isolated = objects ? new Set(objects) : null; this.restyle(); }
+  isolatedObjects(): string[] | null { return this.isolated ? [...this.isolated] : null; }
+  showAll(): void { this.display.clear(); this.isolated = null; this.restyle(); }
 }

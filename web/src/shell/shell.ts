@@ -155,6 +155,18 @@ export class Shell {
     $('selection-label').textContent = m.describeSelection(this.selection.current);
   }
 
+  private renderProjection(): void {
+    $('view-projection').textContent = this.scene.camera === this.scene.orthographic ? 'Orthographic' : 'Perspective';
+  }
+
+  /** Fits the selected piece or object in the view ("Frame selection", F). */
+  frameSelection(): void {
+    const s = this.selection.current;
+    const keys = [s.piece, s.object].filter((k): k is string => !!k);
+    if (!keys.length) { this.message('Select a part first (click it in the view or in a list), then Frame selection.', 'info'); return; }
+    this.scene.frameKeys(s.piece ? [s.piece] : keys);
+  }
+
   /** Asks before discarding unsaved work; resolves true when there is none or the user agrees. */
   confirmDiscard(what: string): Promise<boolean> {
     if (!this.history?.dirty()) return Promise.resolve(true);
@@ -209,7 +221,10 @@ export class Shell {
     $('save-yaml').addEventListener('click', () => this.save());
     $('new-design').addEventListener('click', () => void this.track(this.newDesign()));
     $('view-all').addEventListener('click', () => this.scene.frameAll());
-    for (const v of ['top', 'front', 'side', 'iso'] as const) $(`view-${v}`).addEventListener('click', () => this.scene.view(v));
+    for (const v of ['top', 'front', 'side', 'iso'] as const) $(`view-${v}`).addEventListener('click', () => { this.scene.view(v); this.renderProjection(); });
+    $('view-selection').addEventListener('click', () => this.frameSelection());
+    $('view-projection').addEventListener('click', () => { this.scene.setOrthographic(this.scene.camera !== this.scene.orthographic); this.renderProjection(); });
+    $('view-show-all').addEventListener('click', () => { this.scene.showAll(); this.active?.mounted.onDisplayChange?.(); });
     ($('workspace-switcher') as HTMLSelectElement).addEventListener('change', (e) => this.switchTo((e.target as HTMLSelectElement).value));
     const input = $('open-file') as HTMLInputElement;
     input.addEventListener('change', () => {
@@ -221,6 +236,7 @@ export class Shell {
       const tag = (e.target as HTMLElement).tagName;
       if (tag === 'INPUT' || tag === 'SELECT' || tag === 'TEXTAREA' || ($('confirm') as HTMLDialogElement).open) return;
       if (e.key === 'Escape') this.active?.mounted.cancel?.();
+      if ((e.key === 'f' || e.key === 'F') && !e.ctrlKey && !e.metaKey) this.frameSelection();
       if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === 'z') { e.preventDefault(); if (e.shiftKey) this.history?.redo(); else this.history?.undo(); }
       if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === 'y') { e.preventDefault(); this.history?.redo(); }
     });
@@ -229,6 +245,13 @@ export class Shell {
       idle: () => this.idle(),
       kit: () => this.kit,
       screenPointOf: (key: string) => this.scene.screenPointOf(key),
+      camera: () => ({
+        type: this.scene.camera.type, zoom: this.scene.camera.zoom,
+        position: this.scene.camera.position.toArray(), target: this.scene.controls.target.toArray(),
+      }),
+      /** Client coordinates of the centre of a piece's or object's meshes. */
+      project: (key: string) => this.scene.projectKey(key),
+      displayOf: (object: string) => this.scene.displayOf(object),
       setCamera: (pos: Vec3, target: Vec3) => { this.scene.camera.position.set(...pos); this.scene.controls.target.set(...target); this.scene.controls.update(); this.scene.render(); },
     };
     (window as any).__fabkit = hooks;

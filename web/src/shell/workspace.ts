@@ -40,6 +40,8 @@ export interface MountedWorkspace {
   deleteSelection?(): void;
   /** Esc: cancel the workspace's pending action; true if there was one. */
   cancel?(): boolean;
+  /** The view's hide / see-through / isolate state changed (Show all): re-render lists that show it. */
+  onDisplayChange?(): void;
   /** Extra test/scripting hooks merged into `window.__fabkit`. */
   hooks?: Record<string, unknown>;
   /** Removes listeners; the shell empties the panels and scene layers itself. */

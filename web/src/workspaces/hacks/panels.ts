@@ -290,7 +290,13 @@ export class Panels {
     for (const i of instances(w.design)) {
       const li = el('li', { class: sel.object === i.name ? 'selected' : '', 'data-testid': `instance-${i.name}` },
         el('span', {}, `${i.name} (${i.part}, ${i.role})`),
-        button('select', `select-${i.name}`, () => w.selectPart(i.name)),
+        button('select', `select-${i.name}`, () => w.selectPart(i.name), { title: `Select ${i.name} (F frames it)` }),
+        this.displayButton(i.name),
+        button(w.ctx.scene.isolatedObjects()?.includes(i.name) ? 'show all' : 'isolate', `isolate-${i.name}`, () => {
+          const scene = w.ctx.scene;
+          scene.isolate(scene.isolatedObjects()?.includes(i.name) ? null : [i.name]);
+          this.render();
+        }, { title: `Show only ${i.name} (again: show everything)` }),
         button('delete', `delete-${i.name}`, () => h.apply(removeInstance(w.design, i.name), `delete ${i.name}`)));
       const info = w.partInfo(i.part);
       if (i.role === 'part' && info?.params.length) {
@@ -304,6 +310,19 @@ export class Panels {
       }
       host.append(li);
     }
+  }
+
+  /** Cycles how a part is shown: shown → see-through → hidden (view only; not part of the design). */
+  private displayButton(name: string): HTMLButtonElement {
+    const scene = this.w.ctx.scene;
+    const mode = scene.displayOf(name);
+    const text = { normal: 'shown', xray: 'see-through', hidden: 'hidden' }[mode];
+    return button(text, `display-${name}`, () => {
+      const next = mode === 'normal' ? 'xray' : mode === 'xray' ? 'hidden' : 'normal';
+      if (scene.isolatedObjects() && mode === 'hidden') scene.isolate(null);
+      scene.setDisplay(name, next);
+      this.render();
+    }, { title: `How ${name} is drawn: shown, see-through (clicks pass through it) or hidden; click to change` });
   }
 
   private renderScenePrims(): void {

@@ -163,6 +163,8 @@ export class HacksWorkspace implements MountedWorkspace {
     return 'Nothing selected';
   }
 
+  onDisplayChange(): void { this.panels.render(); }
+
   cancel(): boolean {
     const had = !!this.pick;
     this.pick = null;
@@ -273,6 +275,7 @@ export class HacksWorkspace implements MountedWorkspace {
     scene.selectedObject = sel.object;
     scene.restyle();
     if (!this.sceneFramed && parts.length) { this.sceneFramed = true; scene.view('iso'); }
+    else if (!failed) scene.keepInView(); // an edit moved everything out of the view: follow it
   }
 
   /** The parts layer: one group per part at its frame, a grey body and one pickable mesh per primitive. */
