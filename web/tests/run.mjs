@@ -156,7 +156,8 @@ try {
 
   await test('e connection-tree', async () => {
     const conns = await connectionTexts(page);
-    const edges = await page.locator('[data-testid^="tree-edge-"]').allTextContents();
+    const edges = await page.locator('[data-testid^="tree-edge-"][data-connection]').evaluateAll((es) => es.map((e) => e.dataset.connection).sort((a, b) => 0));
+    edges.sort((x, y) => conns.indexOf(x) - conns.indexOf(y));
     assert(conns.length === 4 && JSON.stringify(conns) === JSON.stringify(edges), `tree ${JSON.stringify(edges)} vs ${JSON.stringify(conns)}`);
     for (const n of ['rods', 'eyehook1', 'eyehook2', 'basket']) assert(await page.getByTestId(`tree-node-${n}`).count() === 1, `node ${n}`);
     await page.getByTestId('tree-node-eyehook2').click();
@@ -558,6 +559,41 @@ try {
     // an edit that moves everything out of the view: the camera follows
     await setField(p, 'frame-env-0-x', 20000);
     assert(inCanvas(await p.evaluate(() => window.__fabkit.project('hoop'))), 'camera did not follow the moved scene');
+    await p.close();
+  });
+
+  await test('u tree-readable', async () => {
+    const p = await freshPage();
+    await p.getByTestId('open-file').setInputFiles(path.join(repo, 'examples/hacks/reading_nook.yaml'));
+    await idle(p);
+    await p.getByTestId('tree').scrollIntoViewIfNeeded();
+    const geo = await p.evaluate(() => {
+      const box = (e) => { const r = e.getBoundingClientRect(); return { x: r.x, y: r.y, w: r.width, h: r.height }; };
+      const nodes = [...document.querySelectorAll('[data-testid^="tree-node-"]')].map((g) => ({ name: g.dataset.testid.slice(10), rect: box(g.querySelector('rect')), text: box(g.querySelector('text')), font: parseFloat(getComputedStyle(g.querySelector('text')).fontSize) * g.querySelector('text').getScreenCTM().a }));
+      const labels = [...document.querySelectorAll('[data-testid^="tree-edge-"][data-connection]')].map((t) => ({ c: t.dataset.connection, box: box(t), font: parseFloat(getComputedStyle(t).fontSize) * t.getScreenCTM().a }));
+      return { nodes, labels };
+    });
+    assert(geo.nodes.length === 19 && geo.labels.length === 20, `${geo.nodes.length} nodes, ${geo.labels.length} edges`);
+    const overlap = (a, b) => a.x < b.x + b.w - 0.5 && b.x < a.x + a.w - 0.5 && a.y < b.y + b.h - 0.5 && b.y < a.y + a.h - 0.5;
+    for (const n of geo.nodes) {
+      assert(n.font >= 10.5, `node ${n.name} drawn at ${n.font}px`);
+      assert(n.text.w <= n.rect.w && n.text.x >= n.rect.x - 0.5, `label of ${n.name} does not fit its box`);
+    }
+    for (const l of geo.labels) assert(l.font >= 9.5, `edge label ${l.c} drawn at ${l.font}px`);
+    const things = [...geo.nodes.map((n) => ['node ' + n.name, n.rect]), ...geo.labels.map((l) => ['edge ' + l.c, l.box])];
+    for (let i = 0; i < things.length; ++i) for (let j = i + 1; j < things.length; ++j)
+      assert(!overlap(things[i][1], things[j][1]), `${things[i][0]} overlaps ${things[j][0]}`);
+    // clicking an edge selects the connection in the scene and the lists
+    const i = 14; // turnbuckle.hook1 – room.rod2
+    await p.getByTestId(`tree-edge-group-${i}`).scrollIntoViewIfNeeded();
+    await p.getByTestId(`tree-edge-${i}`).click(); await idle(p);
+    const label = await p.getByTestId('selection-label').textContent();
+    assert(label.includes('connection turnbuckle.hook1 – room.rod2'), `label: ${label}`);
+    for (const k of ['turnbuckle.hook1', 'room.rod2']) assert((await p.evaluate((key) => window.__fabkit.styleOf(key), k)).outline === 0xff9800, `${k} not highlighted`);
+    assert((await p.getByTestId(`connection-${i}`).getAttribute('class')).includes('selected'), 'connection not selected in the list');
+    await p.getByTestId('tree-node-hoop').click(); await idle(p);
+    assert((await p.getByTestId('selection-label').textContent()).includes('part hoop'), 'node click');
+    await p.getByTestId('tree').screenshot({ path: path.join(docsShots ? path.join(repo, 'docs/editor') : tmpdir(), 'tree-reading-nook.png') });
     await p.close();
   });
 

@@ -57,7 +57,8 @@ export class Panels {
     this.renderLibrary(); this.renderPrimPanel(); this.renderFrames(); this.renderConnections(); this.renderInstances();
     this.renderScenePrims(); this.renderCheckDiags();
     this.w.ctx.refreshSelectionLabel();
-    renderTree(this.tree, this.w.design, this.w.ctx.selection.current.object, (n) => this.w.selectPart(n));
+    const sel = this.w.ctx.selection.current;
+    renderTree(this.tree, this.w.design, { node: sel.object, edge: this.w.selectedConnection() }, (n) => this.w.selectPart(n), (i) => this.w.selectConnection(i));
   }
 
   // ---------------------------------------------------------------- 3D view overlays
@@ -253,8 +254,10 @@ export class Panels {
     d.connections.forEach((c, i) => {
       const step = steps[i];
       const rejected = step && !step.accepted;
-      const li = el('li', { 'data-testid': `connection-${i}`, class: (rejected ? 'rejected' : '') + (slipping.includes(i) ? ' slipping' : '') },
-        el('span', { class: 'conn-text', 'data-testid': `connection-text-${i}` }, `${c.a} – ${c.b}`), ' ',
+      const text = el('span', { class: 'conn-text', 'data-testid': `connection-text-${i}`, title: 'Click to select this connection' }, `${c.a} – ${c.b}`);
+      text.addEventListener('click', () => w.selectConnection(i));
+      const li = el('li', { 'data-testid': `connection-${i}`, class: (rejected ? 'rejected' : '') + (slipping.includes(i) ? ' slipping' : '') + (w.selectedConnection() === i ? ' selected' : '') },
+        text, ' ',
         button(c.alignment === 'flip' ? 'flip' : 'default', `flip-${i}`, () => {
           const n = cloneDesign(w.design); const wasSolved = !!w.lastSolve;
           if (n.connections[i].alignment === 'flip') delete n.connections[i].alignment; else n.connections[i].alignment = 'flip';

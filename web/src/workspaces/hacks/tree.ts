@@ -1,63 +1,89 @@
-// Tree diagram of the connections: instances as nodes (environment at the top), connections as labelled edges.
+// The connection tree: parts as nodes, connections as labelled edges, laid out by dagre
+// (layered, environment at the top; chosen over elkjs: 6 ms vs 41 ms for the reading nook's
+// 22 parts and 20 connections, 52 kB vs 1.6 MB, both without crossings — docs/editor.md).
+// Drawn at 1:1 in a scrolling box so labels keep their size; clicking a node selects the part,
+// clicking an edge selects the connection.
+import dagre from '@dagrejs/dagre';
 import type { Design } from './model';
 import { instances } from './model';
 
 const NS = 'http://www.w3.org/2000/svg';
+const NODE_H = 22, FONT_NODE = 11, FONT_EDGE = 10;
 
-export function renderTree(host: HTMLElement, d: Design, selected: string | null, onSelect: (name: string) => void): void {
+let measureCtx: CanvasRenderingContext2D | null = null;
+/** Width of a text in px at a font size (the SVG uses the page's font). */
+function textWidth(text: string, px: number): number {
+  measureCtx ??= document.createElement('canvas').getContext('2d');
+  if (!measureCtx) return text.length * px * 0.6;
+  measureCtx.font = `${px}px system-ui, sans-serif`;
+  return measureCtx.measureText(text).width;
+}
+
+/** "hook2 – rod1": the primitives of a connection (the nodes already name the parts). */
+const shortLabel = (a: string, b: string) => `${a.split('.').slice(1).join('.')} – ${b.split('.').slice(1).join('.')}`;
+
+export interface TreeSelection { node: string | null; edge: number | null }
+
+export function renderTree(host: HTMLElement, d: Design, selected: TreeSelection, onNode: (name: string) => void, onEdge: (i: number) => void): void {
   host.innerHTML = '';
   const nodes = instances(d).map((i) => i.name);
   for (const e of d.environment) if (!nodes.includes(e.name)) nodes.unshift(e.name);
+  if (!nodes.length) { host.textContent = 'No parts yet.'; return; }
+  const edges = d.connections.map((c, i) => ({ a: c.a.split('.')[0], b: c.b.split('.')[0], full: `${c.a} – ${c.b}`, label: shortLabel(c.a, c.b), i }))
+    .filter((e) => nodes.includes(e.a) && nodes.includes(e.b));
+  // Orient every edge away from the environment (breadth-first depth), so the layers read top-down.
   const depth = new Map<string, number>();
-  const roots = d.environment.map((e) => e.name);
-  roots.forEach((r) => depth.set(r, 0));
-  const edges = d.connections.map((c, i) => ({ a: c.a.split('.')[0], b: c.b.split('.')[0], label: `${c.a} – ${c.b}`, i }));
+  for (const e of d.environment) depth.set(e.name, 0);
   for (let changed = true; changed;) {
     changed = false;
     for (const e of edges) for (const [x, y] of [[e.a, e.b], [e.b, e.a]]) {
       if (depth.has(x) && !depth.has(y)) { depth.set(y, depth.get(x)! + 1); changed = true; }
     }
   }
-  const maxDepth = Math.max(0, ...depth.values());
-  for (const n of nodes) if (!depth.has(n)) depth.set(n, maxDepth + 1);
-  const rows = new Map<number, string[]>();
-  for (const n of nodes) { const k = depth.get(n)!; rows.set(k, [...(rows.get(k) ?? []), n]); }
-  const W = 440, rowH = 90;
-  const pos = new Map<string, [number, number]>();
-  for (const [k, names] of rows) names.forEach((n, i) => pos.set(n, [((i + 1) * W) / (names.length + 1), 24 + k * rowH]));
+  const g = new dagre.graphlib.Graph({ multigraph: true });
+  g.setGraph({ rankdir: 'TB', nodesep: 16, ranksep: 28, edgesep: 8, marginx: 6, marginy: 6 });
+  g.setDefaultEdgeLabel(() => ({}));
+  for (const n of nodes) g.setNode(n, { width: textWidth(n, FONT_NODE) + 16, height: NODE_H });
+  for (const e of edges) {
+    const da = depth.get(e.a) ?? 1e9, db = depth.get(e.b) ?? 1e9;
+    const [from, to] = da <= db ? [e.a, e.b] : [e.b, e.a];
+    g.setEdge(from, to, { width: textWidth(e.label, FONT_EDGE) + 6, height: FONT_EDGE + 4, labelpos: 'c' }, String(e.i));
+  }
+  dagre.layout(g);
+  const W = Math.ceil(g.graph().width ?? 100), H = Math.ceil(g.graph().height ?? 40);
   const svg = document.createElementNS(NS, 'svg');
-  const H = 48 + (Math.max(0, ...rows.keys())) * rowH;
-  svg.setAttribute('viewBox', `0 0 ${W} ${H}`); 
+  svg.setAttribute('width', String(W)); svg.setAttribute('height', String(H));
+  svg.setAttribute('viewBox', `0 0 ${W} ${H}`);
   svg.dataset.testid = 'tree-svg';
-  edges.forEach((e) => {
-    const p = pos.get(e.a), q = pos.get(e.b); if (!p || !q) return;
-    const line = document.createElementNS(NS, 'line');
-    line.setAttribute('x1', String(p[0])); line.setAttribute('y1', String(p[1])); line.setAttribute('x2', String(q[0])); line.setAttribute('y2', String(q[1]));
-    line.setAttribute('class', 'tree-edge');
-    svg.appendChild(line);
-    const t = document.createElementNS(NS, 'text');
-    const same = edges.filter((o) => (o.a === e.a && o.b === e.b) || (o.a === e.b && o.b === e.a)).indexOf(e);
-    const mx = (p[0] + q[0]) / 2;
-    // labels go to the outer side of the diagram so that edges meeting at one node do not overlap
-    const anchor = Math.abs(mx - W / 2) < 1 ? 'middle' : mx < W / 2 ? 'end' : 'start';
-    t.setAttribute('x', String(mx + (anchor === 'end' ? -4 : anchor === 'start' ? 4 : 0))); t.setAttribute('y', String((p[1] + q[1]) / 2 + 12 * same));
-    t.setAttribute('text-anchor', anchor);
-    t.setAttribute('class', 'tree-edge-label'); t.setAttribute('data-testid', `tree-edge-${e.i}`);
-    t.textContent = e.label;
-    svg.appendChild(t);
-  });
+  const mk = (tag: string, attrs: Record<string, string | number>, text?: string) => {
+    const e = document.createElementNS(NS, tag);
+    for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, String(v));
+    if (text !== undefined) e.textContent = text;
+    return e;
+  };
+  for (const e of g.edges()) {
+    const info = edges[edges.findIndex((x) => String(x.i) === e.name)];
+    const lab = g.edge(e) as { points: { x: number; y: number }[]; x: number; y: number };
+    const pts = lab.points.map((p) => `${p.x.toFixed(1)},${p.y.toFixed(1)}`).join(' ');
+    const group = mk('g', { class: 'tree-edge-group' + (selected.edge === info.i ? ' selected' : ''), 'data-testid': `tree-edge-group-${info.i}`, role: 'button', tabindex: 0, 'aria-label': `connection ${info.full}` });
+    group.append(mk('title', {}, `connection ${info.full} (click to select)`),
+      mk('polyline', { points: pts, class: 'tree-edge' }),
+      mk('polyline', { points: pts, class: 'tree-edge-hit', 'data-testid': `tree-edge-hit-${info.i}` }),
+      mk('text', { x: lab.x, y: lab.y + FONT_EDGE / 2 - 1, class: 'tree-edge-label', 'data-testid': `tree-edge-${info.i}`, 'data-connection': info.full }, info.label));
+    group.addEventListener('click', () => onEdge(info.i));
+    group.addEventListener('keydown', (ev) => { if ((ev as KeyboardEvent).key === 'Enter' || (ev as KeyboardEvent).key === ' ') { ev.preventDefault(); onEdge(info.i); } });
+    svg.appendChild(group);
+  }
   for (const n of nodes) {
-    const [x, y] = pos.get(n)!;
-    const g = document.createElementNS(NS, 'g');
-    g.setAttribute('class', 'tree-node' + (n === selected ? ' selected' : ''));
-    g.setAttribute('data-testid', `tree-node-${n}`);
-    const r = document.createElementNS(NS, 'rect');
-    r.setAttribute('x', String(x - 45)); r.setAttribute('y', String(y - 12)); r.setAttribute('width', '90'); r.setAttribute('height', '24'); r.setAttribute('rx', '6');
-    const t = document.createElementNS(NS, 'text');
-    t.setAttribute('x', String(x)); t.setAttribute('y', String(y + 4)); t.textContent = n;
-    g.append(r, t);
-    g.addEventListener('click', () => onSelect(n));
-    svg.appendChild(g);
+    const p = g.node(n);
+    const env = d.environment.some((e) => e.name === n), target = d.target?.name === n;
+    const group = mk('g', { class: 'tree-node' + (n === selected.node ? ' selected' : '') + (env ? ' env' : '') + (target ? ' target' : ''), 'data-testid': `tree-node-${n}`, role: 'button', tabindex: 0, 'aria-label': `part ${n}` });
+    group.append(mk('title', {}, `${n}${env ? ' (environment)' : target ? ' (target)' : ''} — click to select`),
+      mk('rect', { x: p.x - p.width / 2, y: p.y - NODE_H / 2, width: p.width, height: NODE_H, rx: 6 }),
+      mk('text', { x: p.x, y: p.y + 4 }, n));
+    group.addEventListener('click', () => onNode(n));
+    group.addEventListener('keydown', (ev) => { if ((ev as KeyboardEvent).key === 'Enter' || (ev as KeyboardEvent).key === ' ') { ev.preventDefault(); onNode(n); } });
+    svg.appendChild(group);
   }
   host.appendChild(svg);
 }

@@ -147,7 +147,20 @@ export class HacksWorkspace implements MountedWorkspace {
     return { part: info?.name ?? i.part, primitive: prim, ...(i.params ? { params: i.params } : {}) };
   }
 
+  /** The selected connection's index (the selection's object is "#conn<i>"), or null. */
+  selectedConnection(): number | null {
+    const o = this.ctx.selection.current.object;
+    return o?.startsWith('#conn') ? Number(o.slice(5)) : null;
+  }
+
+  selectConnection(i: number): void {
+    this.ctx.selection.set(`#conn${i}`, null);
+    void this.updateScene();
+    this.panels.render();
+  }
+
   exists(object: string): boolean {
+    if (object.startsWith('#conn')) return Number(object.slice(5)) < this.design.connections.length;
     return instances(this.design).some((i) => i.name === object) || this.design.environment.some((e) => e.name === object);
   }
 
@@ -158,6 +171,11 @@ export class HacksWorkspace implements MountedWorkspace {
       const inst = sel.piece.split('.')[0];
       const type = this.primTypeOf(sel.piece);
       return `Selected: primitive ${sel.piece}${type ? ` (${type})` : ''} of part ${inst} (${this.typeOfInstance(inst) ?? '?'})`;
+    }
+    const ci = this.selectedConnection();
+    if (ci !== null) {
+      const c = this.design.connections[ci];
+      return `Selected: connection ${c.a} – ${c.b} (${c.alignment ?? 'default'} alignment${c.fixed ? ', fixed' : ''})`;
     }
     if (sel.object) return `Selected: part ${sel.object} (${this.typeOfInstance(sel.object) ?? '?'})`;
     return 'Nothing selected';
@@ -265,10 +283,12 @@ export class HacksWorkspace implements MountedWorkspace {
     const slipping = this.slippingConnections();
     const sel = this.ctx.selection.current;
     scene.clearStates();
+    const ci = this.selectedConnection();
+    const connKeys = ci !== null && d.connections[ci] ? [d.connections[ci].a, d.connections[ci].b] : [];
     for (const key of scene.pieces.keys()) {
       const c = this.compat.get(key);
       scene.setState(key, {
-        dim: !!this.pick && !!c && !c.ok, picked: this.pick?.scene === key, selected: sel.piece === key,
+        dim: !!this.pick && !!c && !c.ok, picked: this.pick?.scene === key, selected: sel.piece === key || connKeys.includes(key.replace(/\.ring$/, '.hole')) || connKeys.includes(key),
         bad: bad.has(key) || slipping.some((i) => d.connections[i].a === key || d.connections[i].b === key),
       });
     }
