@@ -239,7 +239,7 @@ try {
     await click(page, 'solve');
     await click(page, 'flip-1');
     await idle(page);
-    assert((await page.getByTestId('flip-1').textContent()) === 'flip', 'alignment not flipped');
+    assert((await page.getByTestId('flip-1').textContent()) === 'alignment: flipped', 'alignment not flipped');
     assert((await page.evaluate(() => window.__fabkit.designYaml())).match(/alignment: flip/g).length === 2, 'flip not in design');
     const v = await page.getByTestId('verdict').textContent();
     assert(v === 'STABLE' || v === 'FALLS APART' || v === 'Infeasible', `verdict after flip: ${v}`);
@@ -594,6 +594,42 @@ try {
     await p.getByTestId('tree-node-hoop').click(); await idle(p);
     assert((await p.getByTestId('selection-label').textContent()).includes('part hoop'), 'node click');
     await p.getByTestId('tree').screenshot({ path: path.join(docsShots ? path.join(repo, 'docs/editor') : tmpdir(), 'tree-reading-nook.png') });
+    await p.close();
+  });
+
+  await test('v names-and-words', async () => {
+    const p = await freshPage();
+    // the instance-name field names environments and targets too
+    await selectLibPart(p, 'TowelRack', 'ClosetRods');
+    await p.getByTestId('new-instance-name').fill('wall');
+    await click(p, 'set-environment');
+    await selectLibPart(p, 'basket', 'RoundHandleBasket');
+    await p.getByTestId('new-instance-name').fill('bag');
+    await click(p, 'set-target');
+    let yaml = await p.evaluate(() => window.__fabkit.designYaml());
+    assert(/name: wall\n\s+part: ClosetRods/.test(yaml) && /name: bag\n\s+part: RoundHandleBasket/.test(yaml), yaml);
+    // short default names, a target part not called "environment"
+    await selectLibPart(p, 'HookEyeConnector', 'HookEyeConnector');
+    assert((await p.getByTestId('new-instance-name').getAttribute('placeholder')) === 'eyehook1', 'default name');
+    const basketItem = await p.getByTestId('lib-part-RoundHandleBasket').textContent();
+    assert(basketItem.includes('target') && !/environment ·/.test(basketItem), `library label: ${basketItem}`);
+    // guidance for the look-alike eye hooks, units on sizes, words on the connection buttons
+    assert((await p.getByTestId('part-guidance').textContent()).includes('HookEyeLeftS'), 'no eye hook guidance');
+    const hook = await p.getByTestId('lib-prim-hook').textContent();
+    assert(/arc radius 19 mm/.test(hook) && /arc angle 210°/.test(hook) && /wire radius 5 mm/.test(hook), `sizes: ${hook}`);
+    // one name for the eye hook's ring: files that say "hole" show and save "ring"
+    await p.getByTestId('open-file').setInputFiles(example);
+    await p.getByTestId('confirm-ok').click(); await idle(p);
+    yaml = await p.evaluate(() => window.__fabkit.designYaml());
+    assert(!yaml.includes('.hole') && yaml.includes('eyehook1.ring'), yaml);
+    assert(!(await p.locator('main').innerText()).includes('.hole'), '"hole" shown in the editor');
+    assert((await p.getByTestId('flip-0').textContent()) === 'alignment: flipped' && (await p.getByTestId('fixed-0').textContent()) === 'joint: free', 'connection buttons');
+    await click(p, 'solve');
+    const result = await p.getByTestId('solve-result').innerText();
+    assert(!/\b[A-Z]+_[A-Z_]+\b|CONVERGED/.test(result), `internal words in the result: ${result}`);
+    // every button says what it does
+    const untitled = await p.evaluate(() => [...document.querySelectorAll('button, [role=button]')].filter((b) => !(b.title || b.getAttribute('aria-label') || b.querySelector('title'))).map((b) => b.dataset.testid || b.textContent));
+    assert(!untitled.length, `buttons without a description: ${untitled.join(', ')}`);
     await p.close();
   });
 

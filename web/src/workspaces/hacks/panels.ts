@@ -6,6 +6,7 @@ import { lazyThumbnail } from './thumbs';
 import { renderTree } from './tree';
 import { el, frameEditor } from '../../shell/ui';
 import { connectSteps, describeError } from './workspace';
+import { PRIMITIVE_WORDS_DOC, categoryLabel, guidance, shapeSummary, shortName, terminationText } from './words';
 import type { HacksWorkspace } from './workspace';
 
 const fmt = (x: number, d = 1) => x.toFixed(d);
@@ -126,7 +127,7 @@ export class Panels {
           on ? `ON TARGET (within ${tol.mm} mm, ${tol.deg}°)` : `OFF TARGET (more than ${tol.mm} mm or ${tol.deg}° from the goal)`)] : []),
         el('div', { 'data-testid': 'target-error' }, hasTarget ? `Target error: ${fmt(t.pos_error_mm)} mm, ${fmt(t.rot_error_deg)}° — ${describeError(t)}` : 'No target'),
         ...(hasTarget && t.step1 ? [el('div', { class: 'hint', 'data-testid': 'target-error-step1' }, `before gravity (step 1): ${describeError(t.step1)}`)] : []),
-        el('div', { class: 'hint' }, `${r.termination}: ${r.message}`),
+        el('div', { class: 'hint', 'data-testid': 'termination' }, `Solver: ${terminationText(r.termination)}${r.message ? ` — ${r.message}` : ''}`),
         ...r.slipping.map((s) => el('div', { class: 'diag', 'data-testid': 'slipping' }, `slipping: ${s}`)),
       );
       this.solveBox.dataset.state = state;
@@ -158,7 +159,8 @@ export class Panels {
     for (const p of this.w.library) {
       const img = el('img', { alt: p.name }) as HTMLImageElement;
       const item = el('div', { class: 'lib-item', 'data-testid': `lib-part-${p.name}`, 'data-part': p.name }, img,
-        el('div', {}, el('b', {}, p.name), el('small', {}, [p.category, p.aliases.length ? `aka ${p.aliases.join(', ')}` : '', p.description].filter(Boolean).join(' · '))));
+        el('div', {}, el('b', {}, p.name), el('small', {}, [categoryLabel(p.category), p.aliases.length ? `aka ${p.aliases.join(', ')}` : '', p.description].filter(Boolean).join(' · '))));
+      item.title = [p.description, guidance(p.name)].filter(Boolean).join('\n');
       item.addEventListener('click', () => {
         this.w.selectedLibPart = p.name; this.renderLibrary(); this.renderPrimPanel();
         if (this.w.pick) void this.w.ctx.track(this.w.afterPickChange());
@@ -175,19 +177,22 @@ export class Panels {
     if (!info) { body.append(el('p', { class: 'hint' }, 'Select a part in the library.')); return; }
     const d = w.design;
     const owned = w.inventory.limit(info.name);
-    const draft = w.nameDraft?.part === info.name ? w.nameDraft.name : freshName(d, info.name.toLowerCase());
-    const nameInput = el('input', { id: 'new-instance-name', 'data-testid': 'new-instance-name', value: draft }) as HTMLInputElement;
+    const draft = w.nameDraft?.part === info.name ? w.nameDraft.name : '';
+    const fallback = freshName(d, shortName(info.name));
+    const nameInput = el('input', { id: 'new-instance-name', 'data-testid': 'new-instance-name', value: draft, placeholder: fallback,
+      title: `Name of the next instance of ${info.name}: as a part (empty: ${fallback}), environment (empty: ${freshName(d, 'env')}) or target (empty: ${d.target?.name ?? freshName(d, 'target')})` }) as HTMLInputElement;
     nameInput.addEventListener('input', () => { w.nameDraft = { part: info.name, name: nameInput.value }; });
-    const ownedInput = el('input', { type: 'number', min: '0', id: 'owned-count', 'data-testid': 'owned-count', placeholder: 'unlimited', value: owned === undefined ? '' : String(owned), style: 'width:80px' }) as HTMLInputElement;
+    const ownedInput = el('input', { type: 'number', min: '0', id: 'owned-count', 'data-testid': 'owned-count', placeholder: 'unlimited', title: `How many ${info.name} you own: adding more is refused (empty: unlimited; kept in this browser)`, value: owned === undefined ? '' : String(owned), style: 'width:80px' }) as HTMLInputElement;
     ownedInput.addEventListener('change', () => w.setInventory(info.name, ownedInput.value === '' ? undefined : Number(ownedInput.value)));
     body.append(
       el('div', {}, el('b', { 'data-testid': 'prim-panel-part' }, info.name), ` — ${info.description}`),
+      ...(guidance(info.name) ? [el('p', { class: 'hint guidance', 'data-testid': 'part-guidance' }, guidance(info.name)!)] : []),
       el('div', { class: 'hint' }, `in design: ${countOf(d, info.name)}; owned: `, ownedInput),
       el('div', {}, 'new instance name ', nameInput),
       ...this.paramFields(info, w.paramDraft.get(info.name) ?? defaultParams(info), 'new-param', (vals) => { w.paramDraft.set(info.name, vals); if (w.pick) void w.ctx.track(w.afterPickChange()); }),
       el('div', {},
-        button('Set as environment', 'set-environment', () => w.setEnvironment(info.name)),
-        button('Set as target', 'set-target', () => w.setTarget(info.name))),
+        button('Set as environment', 'set-environment', () => w.setEnvironment(info.name), { title: `Add a ${info.name} fixed in the world, for the parts to hang from or rest on` }),
+        button('Set as target', 'set-target', () => w.setTarget(info.name), { title: `Make a ${info.name} the thing to hold: where it should end up is its goal (drawn green)` })),
       el('p', { class: 'hint' }, 'Click a primitive, then one in the scene, to add a new instance connected there.'),
     );
     for (const p of info.primitives) {
@@ -197,6 +202,7 @@ export class Panels {
         class: 'prim-item' + (w.pick && c && !c.ok ? ' dim' : '') + (w.pick?.lib?.part === info.name && w.pick.lib.prim === p.name ? ' picked' : ''),
         'data-testid': `lib-prim-${p.name}`, title: w.pick && c && !c.ok ? c.reason : p.description,
       }, el('span', {}, el('b', {}, p.name), ` ${p.type}${p.closed ? ' (closed)' : ''}`), el('small', {}, shapeSummary(p.shape)));
+      if (!(w.pick && c && !c.ok)) item.title = `${p.description} — ${PRIMITIVE_WORDS_DOC[p.type] ?? p.type}. Click to pick it for a new ${info.name}, then click a primitive in the scene.`;
       item.addEventListener('click', () => void w.ctx.track(w.pickLibrary(info.name, p.name)));
       body.append(item);
     }
@@ -258,14 +264,14 @@ export class Panels {
       text.addEventListener('click', () => w.selectConnection(i));
       const li = el('li', { 'data-testid': `connection-${i}`, class: (rejected ? 'rejected' : '') + (slipping.includes(i) ? ' slipping' : '') + (w.selectedConnection() === i ? ' selected' : '') },
         text, ' ',
-        button(c.alignment === 'flip' ? 'flip' : 'default', `flip-${i}`, () => {
+        button(c.alignment === 'flip' ? 'alignment: flipped' : 'alignment: default', `flip-${i}`, () => {
           const n = cloneDesign(w.design); const wasSolved = !!w.lastSolve;
           if (n.connections[i].alignment === 'flip') delete n.connections[i].alignment; else n.connections[i].alignment = 'flip';
           h.apply(n, 'alignment');
           if (wasSolved) void w.ctx.track(w.solve()); // re-solve with the flipped alignment
-        }, { title: 'alignment (click to toggle; re-solves when a solve result is shown)' }),
-        button(c.fixed ? 'fixed' : 'free', `fixed-${i}`, () => { const n = cloneDesign(w.design); if (n.connections[i].fixed) delete n.connections[i].fixed; else n.connections[i].fixed = true; h.apply(n, 'fixed'); }, { title: 'fixed connection (click to toggle)' }),
-        button('✕', `delete-connection-${i}`, () => { const n = cloneDesign(w.design); n.connections.splice(i, 1); h.apply(n, 'delete connection'); }, { title: 'delete connection' }),
+        }, { title: 'Which way round the two primitives meet: default, or flipped (turned over — e.g. an eye hook hanging from the other side of a rod). Click to switch; re-solves when a solve result is shown.' }),
+        button(c.fixed ? 'joint: fixed' : 'joint: free', `fixed-${i}`, () => { const n = cloneDesign(w.design); if (n.connections[i].fixed) delete n.connections[i].fixed; else n.connections[i].fixed = true; h.apply(n, 'fixed'); }, { title: 'free: the connection may slide and turn when the assembly settles under gravity; fixed: it stays where step 1 put it (e.g. a hook you tape down). Click to switch.' }),
+        button('✕', `delete-connection-${i}`, () => { const n = cloneDesign(w.design); n.connections.splice(i, 1); h.apply(n, 'delete connection'); }, { title: 'Delete this connection (undoable)', 'aria-label': `delete connection ${c.a} – ${c.b}` }),
         ...(step?.closes_cycle ? [el('div', { class: 'hint' }, `closes cycle ${step.cycles.join(', ')}`)] : []),
         ...(step ? step.diagnostics.map((x) => el('div', { class: 'diag' }, x.message)) : []),
         ...(slipping.includes(i) ? [el('div', { class: 'diag' }, 'slipping')] : []));
@@ -281,7 +287,7 @@ export class Panels {
         el('div', { class: 'diag', 'data-testid': 'failed-connect-message' }, failed.message),
         ...(failed.step?.best_part_frames ? [el('div', { class: 'hint' }, `The 3D view shows the closest configuration the cycle search found; the failing primitives are red${view?.gap_mm != null ? `, the red line spans the ${view.gap_mm.toFixed(1)} mm gap` : ''}.`)] : []),
         ...(view?.suggestion ? [el('div', { class: 'suggestion', 'data-testid': 'failed-suggestion' }, view.suggestion)] : []),
-        button('Dismiss', 'dismiss-failed', () => w.dismissFailed()));
+        button('Dismiss', 'dismiss-failed', () => w.dismissFailed(), { title: 'Back to the design (the connection is not added)' }));
       if (wasHidden) f.scrollIntoView({ block: 'nearest' });
     }
   }
@@ -292,7 +298,7 @@ export class Panels {
     const sel = w.ctx.selection.current;
     for (const i of instances(w.design)) {
       const li = el('li', { class: sel.object === i.name ? 'selected' : '', 'data-testid': `instance-${i.name}` },
-        el('span', {}, `${i.name} (${i.part}, ${i.role})`),
+        el('span', { title: this.w.partInfo(i.part)?.description ?? '' }, `${i.name} (${i.part}, ${i.role})`),
         button('select', `select-${i.name}`, () => w.selectPart(i.name), { title: `Select ${i.name} (F frames it)` }),
         this.displayButton(i.name),
         button(w.ctx.scene.isolatedObjects()?.includes(i.name) ? 'show all' : 'isolate', `isolate-${i.name}`, () => {
@@ -300,7 +306,7 @@ export class Panels {
           scene.isolate(scene.isolatedObjects()?.includes(i.name) ? null : [i.name]);
           this.render();
         }, { title: `Show only ${i.name} (again: show everything)` }),
-        button('delete', `delete-${i.name}`, () => h.apply(removeInstance(w.design, i.name), `delete ${i.name}`)));
+        button('delete', `delete-${i.name}`, () => h.apply(removeInstance(w.design, i.name), `delete ${i.name}`), { title: `Delete ${i.name} and its connections (undoable; also the Delete key)` }));
       const info = w.partInfo(i.part);
       if (i.role === 'part' && info?.params.length) {
         li.append(...this.paramFields(info, { ...defaultParams(info), ...(i.params ?? {}) }, `param-${i.name}`, (vals) => {
@@ -359,10 +365,6 @@ export class Panels {
     for (const d of c.diagnostics) host.append(el('div', { class: d.severity === 'error' ? 'diag' : 'hint' }, d.text));
     for (const s of c.steps) if (!s.text.startsWith('connect ')) for (const d of s.diagnostics) host.append(el('div', { class: 'diag' }, `${s.text}: ${d.message}`));
   }
-}
-
-function shapeSummary(shape: Record<string, number>): string {
-  return Object.entries(shape).map(([k, v]) => `${k} ${+v.toFixed(2)}`).join(', ');
 }
 
 export function button(text: string, testid: string, onClick: () => void, extra: Record<string, string> = {}): HTMLButtonElement {

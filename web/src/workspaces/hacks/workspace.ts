@@ -3,7 +3,8 @@
 import * as THREE from 'three';
 import { ApiError, hacksApi } from './api';
 import type { CheckResult, CheckStep, Compat, HacksApi, MeshData, PartInfo, PartMesh, PlacedPart, PrimRef, SolveResult } from './api';
-import { Inventory, cloneDesign, countOf, freshName, instances } from './model';
+import { Inventory, cloneDesign, countOf, freshName, instances, renameRefs } from './model';
+import { shortName } from './words';
 import type { Connection, Design, EnvItem } from './model';
 import { designToYaml } from './yamlio';
 import { designToPython } from './python';
@@ -578,7 +579,7 @@ export class HacksWorkspace implements MountedWorkspace {
         this.panels.render();
         return;
       }
-      let name = (this.nameDraft?.part === lib.part ? this.nameDraft.name.trim() : '') || freshName(next, lib.part.toLowerCase());
+      let name = this.takeName(lib.part) || freshName(next, shortName(lib.part));
       if (instances(next).some((i) => i.name === name) || next.environment.some((e) => e.name === name)) name = freshName(next, name.replace(/\d+$/, ''));
       const pd = this.paramDraft.get(lib.part);
       next.parts.push(pd && Object.keys(pd).length ? { name, part: lib.part, params: { ...pd } } : { name, part: lib.part });
@@ -625,8 +626,11 @@ export class HacksWorkspace implements MountedWorkspace {
     const d = cloneDesign(this.design);
     const owned = this.inventory.limit(part);
     if (owned !== undefined && countOf(d, part) >= owned) { this.ctx.message(`Inventory: you own ${owned} ${part}; cannot add another.`); return; }
-    const name = freshName(d, 'env');
+    const typed = this.takeName(part);
+    if (typed && !this.nameFree(d, typed)) { this.ctx.message(`The name ${typed} is taken; choose another.`); return; }
+    const name = typed || freshName(d, 'env');
     d.environment.push({ name, part, frame: { pos: [0, 0, 0], rot: [0, 0, 0] } });
+    this.nameDraft = null;
     this.ctx.history.apply(d, `environment ${name}`);
   }
 
@@ -635,9 +639,21 @@ export class HacksWorkspace implements MountedWorkspace {
     const owned = this.inventory.limit(part);
     const already = d.target ? 1 : 0;
     if (owned !== undefined && countOf(d, part) - (d.target?.part === part ? already : 0) >= owned) { this.ctx.message(`Inventory: you own ${owned} ${part}; cannot add another.`); return; }
-    const name = d.target?.name ?? freshName(d, 'target');
+    const typed = this.takeName(part);
+    if (typed && typed !== d.target?.name && !this.nameFree(d, typed)) { this.ctx.message(`The name ${typed} is taken; choose another.`); return; }
+    const name = typed || d.target?.name || freshName(d, 'target');
+    if (d.target && d.target.name !== name) renameRefs(d, d.target.name, name);
     d.target = { name, part, frame: d.target?.frame ?? { pos: [0, 0, 0], rot: [0, 0, 0] } };
+    this.nameDraft = null;
     this.ctx.history.apply(d, `target ${name}`);
+  }
+
+  /** The name typed for the next instance of `part`, or '' (cleared once the instance exists). */
+  private takeName(part: string): string {
+    return this.nameDraft?.part === part ? this.nameDraft.name.trim() : '';
+  }
+  private nameFree(d: Design, name: string): boolean {
+    return !instances(d).some((i) => i.name === name) && !d.environment.some((e) => e.name === name);
   }
 
   selectPart(name: string): void {
