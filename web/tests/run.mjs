@@ -166,6 +166,8 @@ try {
   });
 
   await test('f screenshot-golden', async () => {
+    const cb = await page.getByTestId('scene-canvas').boundingBox();
+    await page.mouse.move(cb.x + 3, cb.y + 3); // over empty canvas: nothing hovered
     await page.mouse.move(0, 0);
     await page.evaluate(() => window.__fabkit.setCamera([700, -900, 600], [0, 0, 80]));
     await page.getByTestId('tree-node-rods').click(); // deterministic selection highlight
@@ -631,6 +633,53 @@ try {
     const untitled = await p.evaluate(() => [...document.querySelectorAll('button, [role=button]')].filter((b) => !(b.title || b.getAttribute('aria-label') || b.querySelector('title'))).map((b) => b.dataset.testid || b.textContent));
     assert(!untitled.length, `buttons without a description: ${untitled.join(', ')}`);
     await p.close();
+  });
+
+  await test('w rendering', async () => {
+    const p = await freshPage();
+    await p.getByTestId('open-file').setInputFiles(example);
+    await idle(p);
+    let info = await p.evaluate(() => window.__fabkit.renderInfo());
+    assert(info.antialias && info.shadows && info.shadowCasters > 5, `renderer: ${JSON.stringify(info)}`);
+    // the floor grid stays below the lowest part, also when everything hangs below z = 0
+    await setField(p, 'frame-env-0-z', -600);
+    info = await p.evaluate(() => window.__fabkit.renderInfo());
+    assert(info.minZ < -600 && info.floorZ <= info.minZ, `grid at ${info.floorZ} mm cuts through parts down to ${info.minZ} mm`);
+    const legend = await p.getByTestId('legend').textContent();
+    for (const w of ['rod', 'hook', 'ring', 'target goal', 'selected']) assert(legend.includes(w), `legend lacks ${w}: ${legend}`);
+    // gravity acts visibly: the solve animates from the step-1 pose to the rest pose
+    await p.emulateMedia({ reducedMotion: 'no-preference' });
+    await click(p, 'solve');
+    const log = await p.evaluate(() => window.__fabkit.settleLog());
+    const d = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+    assert(log && d(log.from, log.to) > 5 && log.samples.length >= 5, `no settling animation: ${JSON.stringify(log && { ...log, samples: log.samples.length })}`);
+    assert(d(log.samples[0], log.from) < d(log.from, log.to) * 0.2 && d(log.samples[log.samples.length - 1], log.to) < 1e-6, 'animation does not run from step 1 to rest');
+    await p.emulateMedia({ reducedMotion: 'reduce' });
+    await p.close();
+    // thin wires (2 mm S-hooks) stay visible from far away
+    const q = await freshPage();
+    await selectLibPart(q, 'TowelHanging', 'TowelHangingEnv');
+    await click(q, 'set-environment');
+    await connectNew(q, 'DoubleHook', 's', 'hook1', 'env1.hook1');
+    await click(q, 'display-env1'); await click(q, 'display-env1'); // hidden: only the S-hook is drawn
+    const c = await q.evaluate(() => window.__fabkit.project('s'));
+    await q.evaluate(() => { const f = window.__fabkit; const cam = f.camera(); f.setCamera([cam.target[0] + 9000, cam.target[1] - 12000, cam.target[2] + 3000], cam.target); });
+    const at = await q.evaluate(() => window.__fabkit.project('s'));
+    const px = async () => decodePng(await canvasPng(q));
+    const shown = await px();
+    await click(q, 'display-s'); await click(q, 'display-s');
+    await q.evaluate(() => { const f = window.__fabkit; const cam = f.camera(); f.setCamera(cam.position, cam.target); });
+    const hidden = await px();
+    const canvasBox = await q.getByTestId('scene-canvas').boundingBox();
+    let visible = 0;
+    const cx = Math.round(at.x - canvasBox.x), cy = Math.round(at.y - canvasBox.y);
+    for (let y = cy - 8; y <= cy + 8; ++y) for (let x = cx - 8; x <= cx + 8; ++x) {
+      const i = (y * shown.width + x) * 4;
+      if (Math.max(...[0, 1, 2].map((k) => Math.abs(shown.data[i + k] - hidden.data[i + k]))) > 40) visible++;
+    }
+    // without the outline it covers 6 pixels here (measured), with it 18
+    assert(visible >= 12, `the S-hook covers ${visible} pixels from 15 m away (c ${JSON.stringify(c)})`);
+    await q.close();
   });
 
   await test('h load-design-from-server', async () => {

@@ -87,6 +87,15 @@ export class SceneView {
   hovered: string | null = null;
   /** Outline meshes by the key of the mesh they outline. */
   private outlines = new Map<THREE.Mesh, THREE.Mesh>();
+  private sun = new THREE.DirectionalLight(0xffffff, 1.5);
+  /** The floor: a grid and a shadow catcher, kept just below the lowest thing drawn. */
+  private floor = new THREE.Group();
+  private grid = new THREE.GridHelper(2000, 20, 0xbbbbbb, 0xdddddd);
+  private shadowCatcher = new THREE.Mesh(new THREE.PlaneGeometry(1, 1), new THREE.ShadowMaterial({ opacity: 0.18 }));
+  /** Set when layers change: the floor and the shadow camera are fitted again at the next restyle. */
+  private boundsChanged = true;
+  floorZ = 0;
+  private legendEl: HTMLElement | null = null;
   onPick: (piece: string | null, object: string | null) => void = () => {};
   onHover: (piece: string | null, x: number, y: number) => void = () => {};
   /** Called after every render (overlays that follow the camera). */
@@ -96,9 +105,12 @@ export class SceneView {
   private labelHost: HTMLElement;
 
   constructor(private host: HTMLElement) {
-    this.renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(1);
     this.renderer.setClearColor(0xf4f6f8);
+    // soft shadows so contacts read (a hook on a rod, a basket on its handle)
+    this.renderer.shadowMap.enabled = true;
+    this.renderer.shadowMap.type = THREE.PCFSoftShadowMap;
     host.appendChild(this.renderer.domElement);
     this.labelHost = document.createElement('div');
     this.labelHost.className = 'scene-labels';
@@ -112,9 +124,17 @@ export class SceneView {
     this.controls.enableDamping = false;
     this.controls.zoomToCursor = true; // the wheel zooms towards the point under the pointer
     this.controls.addEventListener('change', () => this.render());
-    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x667788, 1.6));
-    const sun = new THREE.DirectionalLight(0xffffff, 1.4); sun.position.set(1, -2, 3); this.scene.add(sun);
-    const grid = new THREE.GridHelper(2000, 20, 0xbbbbbb, 0xdddddd); grid.rotation.x = Math.PI / 2; this.scene.add(grid);
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x667788, 1.5));
+    this.sun.position.set(1, -2, 3);
+    this.sun.castShadow = true;
+    this.sun.shadow.mapSize.set(1024, 1024);
+    this.sun.shadow.bias = -0.0004;
+    this.sun.shadow.normalBias = 0.6;
+    this.scene.add(this.sun, this.sun.target);
+    this.grid.rotation.x = Math.PI / 2;
+    this.floor.add(this.grid, this.shadowCatcher);
+    this.shadowCatcher.receiveShadow = true;
+    this.scene.add(this.floor);
     this.scene.add(new THREE.AxesHelper(100));
     this.scene.add(this.root);
     new ResizeObserver(() => this.resize()).observe(host);
@@ -195,6 +215,7 @@ export class SceneView {
       c.traverse((o) => { if ((o as THREE.Mesh).geometry) (o as THREE.Mesh).geometry.dispose(); });
     }
     this.labels = this.labels.filter((l) => { if (l.layer !== name) return true; l.el.remove(); return false; });
+    this.boundsChanged = true;
     for (const [m, hull] of [...this.outlines]) if (!this.inScene(m)) { (hull.material as THREE.Material).dispose(); this.outlines.delete(m); }
     for (const [k, m] of [...this.pieces]) if (!this.inScene(m)) this.pieces.delete(k);
     for (const [k, m] of [...this.bodies]) if (!this.inScene(m)) this.bodies.delete(k);
@@ -204,6 +225,7 @@ export class SceneView {
   clearAll(): void {
     for (const name of [...this.layers.keys()]) { this.clearLayer(name); this.root.remove(this.layers.get(name)!); }
     this.layers.clear(); this.state.clear(); this.selectedObject = null; this.hovered = null;
+    this.setLegend([]);
     this.render();
   }
 
@@ -218,6 +240,8 @@ export class SceneView {
    */
   pickable(mesh: THREE.Mesh, object: string, piece: string | null, color: number): void {
     mesh.userData = { ...mesh.userData, object, piece, color };
+    mesh.castShadow = true; mesh.receiveShadow = true;
+    this.boundsChanged = true;
     if (piece) this.pieces.set(piece, mesh); else this.bodies.set(object, mesh);
     // every pickable gets a hull outline: thin and dark normally (thin wires stay visible),
     // wide and orange when selected, blue when hovered
@@ -239,6 +263,7 @@ export class SceneView {
   clearStates(): void { this.state.clear(); }
 
   restyle(): void {
+    if (this.boundsChanged) { this.boundsChanged = false; this.fitFloor(); }
     const size = this.renderer.getSize(new THREE.Vector2());
     const style = (mesh: THREE.Mesh, selected: boolean, hovered: boolean, dim: boolean) => {
       const hull = this.outlines.get(mesh); if (!hull) return;
@@ -339,6 +364,82 @@ export class SceneView {
       if ((m.isMesh || (o as THREE.Line).isLine) && !m.userData.outline && filter(m)) box.expandByObject(m, false);
     });
     return box;
+  }
+
+  /**
+   * Puts the floor (grid and shadow catcher) just below the lowest thing drawn, so the grid
+   * never cuts through hanging parts, and fits the sun's shadow camera around the scene.
+   */
+  private fitFloor(): void {
+    const box = this.visibleBox();
+    if (box.isEmpty()) return;
+    const c = box.getCenter(new THREE.Vector3()), size = box.getSize(new THREE.Vector3());
+    const extent = Math.max(size.x, size.y, 400);
+    const cells = 100; // mm per grid cell
+    const side = Math.ceil((extent * 1.6) / (cells * 2)) * cells * 2;
+    this.floor.remove(this.grid); this.grid.geometry.dispose();
+    this.grid = new THREE.GridHelper(side, side / cells, 0xbbbbbb, 0xdddddd);
+    this.grid.rotation.x = Math.PI / 2;
+    this.floor.add(this.grid);
+    this.shadowCatcher.scale.set(side, side, 1);
+    this.floorZ = box.min.z - 1;
+    this.floor.position.set(Math.round(c.x / cells) * cells, Math.round(c.y / cells) * cells, this.floorZ);
+    const r = Math.max(size.length() / 2, 50);
+    this.sun.target.position.copy(c);
+    this.sun.position.copy(c.clone().add(new THREE.Vector3(1, -2, 3).normalize().multiplyScalar(r * 3)));
+    const cam = this.sun.shadow.camera;
+    cam.left = -r * 1.3; cam.right = r * 1.3; cam.top = r * 1.3; cam.bottom = -r * 1.3;
+    cam.near = r * 0.5; cam.far = r * 6; cam.updateProjectionMatrix();
+    this.sun.target.updateMatrixWorld();
+  }
+
+  /** A legend of the view's colours (bottom right); empty hides it. */
+  setLegend(entries: { color: number; label: string; title?: string }[]): void {
+    this.legendEl?.remove();
+    this.legendEl = null;
+    if (!entries.length) return;
+    const box = document.createElement('div');
+    box.className = 'scene-legend';
+    box.dataset.testid = 'legend';
+    for (const e of entries) {
+      const row = document.createElement('div');
+      const sw = document.createElement('span');
+      sw.className = 'swatch';
+      sw.style.background = `#${e.color.toString(16).padStart(6, '0')}`;
+      row.append(sw, e.label);
+      if (e.title) row.title = e.title;
+      box.append(row);
+    }
+    this.host.append(box);
+    this.legendEl = box;
+  }
+
+  /**
+   * Runs `step(t)` for t from 0 to 1 over `ms` milliseconds, rendering each frame (once with
+   * t = 1 when the user prefers reduced motion). Resolves when done; a newer animation stops it.
+   */
+  animate(ms: number, step: (t: number) => void): Promise<void> {
+    const id = ++this.animationId;
+    if (matchMedia('(prefers-reduced-motion: reduce)').matches || ms <= 0) { step(1); this.render(); return Promise.resolve(); }
+    const t0 = performance.now();
+    return new Promise((resolve) => {
+      const frame = () => {
+        if (id !== this.animationId) { resolve(); return; }
+        const t = Math.min(1, (performance.now() - t0) / ms);
+        step(t); this.render();
+        if (t < 1) requestAnimationFrame(frame); else resolve();
+      };
+      frame();
+    });
+  }
+  private animationId = 0;
+
+  /** What the renderer does, for tests: antialiasing, shadows, where the floor is. */
+  renderInfo(): { antialias: boolean; shadows: boolean; floorZ: number; minZ: number; shadowCasters: number } {
+    const box = this.visibleBox();
+    let casters = 0;
+    this.root.traverse((o) => { if ((o as THREE.Mesh).isMesh && o.castShadow) casters++; });
+    return { antialias: !!this.renderer.getContext().getContextAttributes()?.antialias, shadows: this.renderer.shadowMap.enabled, floorZ: this.floorZ, minZ: box.min.z, shadowCasters: casters };
   }
 
   /** Client coordinates of the centre of the meshes of a piece or object key. */

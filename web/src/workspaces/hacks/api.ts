@@ -29,6 +29,8 @@ export interface SolveResult {
   stable: boolean; feasible: boolean; termination: string; message: string;
   target: PoseError & { step1?: PoseError; primitive?: string; goal?: Frame };
   parts: PlacedPart[]; slipping: string[];
+  /** Every part's frame after step 1 (before relaxing under gravity); added by the server for the editor. */
+  step1_parts?: { name: string; frame: Frame }[];
 }
 export interface PrimRef { part: string; primitive: string; params?: Record<string, number> }
 export interface Compat { ok: boolean; reason: string }

@@ -15,6 +15,7 @@ import type { MountedWorkspace, ShellContext } from '../../shell/workspace';
 import { download } from '../../shell/ui';
 import { fileStem } from '../../shell/shell';
 import { PRIM_COLORS } from './colors';
+import { PRIMITIVE_WORDS_DOC } from './words';
 import { Panels } from './panels';
 
 /** A part to draw: where, its mesh, its primitive types; a ghost is drawn see-through. */
@@ -74,6 +75,14 @@ export class HacksWorkspace implements MountedWorkspace {
       void ctx.track(this.refresh());
     }));
     const scene = ctx.scene;
+    scene.setLegend([
+      ...Object.entries(PRIM_COLORS).map(([type, color]) => ({ color, label: type, title: PRIMITIVE_WORDS_DOC[type] })),
+      { color: 0xc8c8c8, label: 'part body' },
+      { color: 0x2e9e44, label: 'target goal', title: 'where the target should end up (ghost) and how far it is (line)' },
+      { color: 0xff0000, label: 'failing / slipping', title: 'a connect that was refused, or a connection that slips' },
+      { color: 0xff9800, label: 'selected' },
+      { color: 0x2f6fff, label: 'under the pointer' },
+    ]);
     scene.onPick = (prim, part) => {
       if (prim) void ctx.track(this.pickScene(prim));
       else { ctx.selection.set(part, null); void this.updateScene(); this.panels.render(); }
@@ -85,6 +94,9 @@ export class HacksWorkspace implements MountedWorkspace {
       /** Scene keys ("inst.prim") that have a mesh in the 3D view, with their triangle counts. */
       /** The goal and the achieved point of the target's primitive (mm), with the label's text. */
       goal: () => this.goal,
+      renderInfo: () => scene.renderInfo(),
+      /** The last settling animation: the part that moved most, sampled at every frame. */
+      settleLog: () => this.settleLog,
       /** The refused connect as the 3D view shows it (gap between the failing primitives, suggestion). */
       failure: () => this.failure,
       /** How a scene key is drawn: emissive colour, outline colour and width (px). */
@@ -303,11 +315,13 @@ export class HacksWorkspace implements MountedWorkspace {
   private drawParts(parts: ScenePart[]): void {
     const scene = this.ctx.scene;
     scene.clearLayer('parts');
+    this.partGroups.clear();
     const layer = scene.layer('parts');
     for (const p of parts) {
       const g = new THREE.Group();
       g.matrixAutoUpdate = false;
       g.matrix.copy(frameMatrix(p.frame));
+      this.partGroups.set(p.name, g);
       if (p.mesh.body.faces.length) { // loose-primitive environments have no body
         const body = new THREE.Mesh(geometryOf(p.mesh.body), new THREE.MeshStandardMaterial({ color: 0xc8c8c8, transparent: !!p.ghost, opacity: p.ghost ? 0.35 : 1, roughness: 0.8, polygonOffset: true, polygonOffsetFactor: 2, polygonOffsetUnits: 2 }));
         scene.pickable(body, p.name, null, 0xc8c8c8);
@@ -486,6 +500,39 @@ export class HacksWorkspace implements MountedWorkspace {
   onTarget(e: { pos_error_mm: number; rot_error_deg: number }): boolean {
     const t = this.tolerance();
     return e.pos_error_mm <= t.mm && e.rot_error_deg <= t.deg;
+  }
+
+  private partGroups = new Map<string, THREE.Group>();
+  settleLog: { part: string; from: Vec3; to: Vec3; samples: Vec3[] } | null = null;
+
+  /**
+   * Shows gravity act: every part moves from where step 1 put it (reaching for the target) to
+   * where it came to rest, over 0.9 s (at once when the user prefers reduced motion).
+   */
+  async settle(): Promise<void> {
+    const r = this.lastSolve;
+    if (!r?.step1_parts?.length) return;
+    const start = new Map(r.step1_parts.map((p) => [p.name, frameMatrix(p.frame)]));
+    const moves: { name: string; g: THREE.Group; p0: THREE.Vector3; q0: THREE.Quaternion; p1: THREE.Vector3; q1: THREE.Quaternion }[] = [];
+    for (const [name, g] of this.partGroups) {
+      const a = start.get(name); if (!a) continue;
+      const p0 = new THREE.Vector3(), q0 = new THREE.Quaternion(), p1 = new THREE.Vector3(), q1 = new THREE.Quaternion(), sc = new THREE.Vector3();
+      const rest = r.parts.find((x) => x.name === name);
+      a.decompose(p0, q0, sc); (rest ? frameMatrix(rest.frame) : g.matrix).decompose(p1, q1, sc);
+      moves.push({ name, g, p0, q0, p1, q1 });
+    }
+    if (!moves.length) return;
+    const most = moves.reduce((x, y) => (y.p0.distanceTo(y.p1) > x.p0.distanceTo(x.p1) ? y : x));
+    const v3 = (v: THREE.Vector3): Vec3 => [v.x, v.y, v.z];
+    this.settleLog = { part: most.name, from: v3(most.p0), to: v3(most.p1), samples: [] };
+    const layer = this.ctx.scene.layer('parts');
+    const one = new THREE.Vector3(1, 1, 1), p = new THREE.Vector3(), q = new THREE.Quaternion();
+    await this.ctx.scene.animate(900, (t) => {
+      const e = t < 0.5 ? 2 * t * t : 1 - (-2 * t + 2) ** 2 / 2; // ease in and out
+      for (const m of moves) m.g.matrix.compose(p.copy(m.p0).lerp(m.p1, e), q.copy(m.q0).slerp(m.q1, e), one);
+      layer.updateMatrixWorld(true);
+      this.settleLog!.samples.push(v3(p.copy(most.p0).lerp(most.p1, e)));
+    });
   }
 
   slippingConnections(): number[] {
@@ -668,6 +715,10 @@ export class HacksWorkspace implements MountedWorkspace {
     try {
       this.lastSolve = await this.api.solve(designToYaml(this.design));
       this.panels.solveResult(this.lastSolve, null);
+      await this.updateScene();
+      await this.settle();
+      this.panels.render();
+      return;
     } catch (e) {
       this.lastSolve = null;
       this.panels.solveResult(null, e as ApiError);
