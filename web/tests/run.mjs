@@ -215,7 +215,8 @@ try {
     const py = await page.evaluate(() => window.__fabkit.python());
     assert(py.startsWith('from fabkit.hacks import *') && py.includes('alignment="flip"') && py.includes('end_with'), py);
     const dir = mkdtempSync(path.join(tmpdir(), 'fabkit-py-'));
-    writeFileSync(path.join(dir, 'basket.py'), py + '\nresult = assembly.solve()\nprint("stable", result.stable)\n');
+    assert(/result = assembly\.solve\(\)\nprint\(result\.summary\(\)\)\nprint\("stable", result\.stable\)\nprint\(result\)\n$/.test(py), 'the program does not end by solving and printing:\n' + py.slice(-200));
+    writeFileSync(path.join(dir, 'basket.py'), py); // runs as exported
     const out = execFileSync(fabkit, ['run', path.join(dir, 'basket.py')], { encoding: 'utf8', timeout: 120000 });
     assert(/stable True/.test(out), out);
   });
@@ -354,7 +355,7 @@ try {
     const py = await p.evaluate(() => window.__fabkit.python());
     assert(py.includes('surface = Surface({"width": 400, "length": 400})') && py.includes('table = Environment({"surface": surface})'), py);
     const dir = mkdtempSync(path.join(tmpdir(), 'fabkit-py-'));
-    writeFileSync(path.join(dir, 'toothbrush.py'), py + '\nresult = assembly.solve()\nprint("stable", result.stable)\n');
+    writeFileSync(path.join(dir, 'toothbrush.py'), py);
     const out = execFileSync(fabkit, ['run', path.join(dir, 'toothbrush.py')], { encoding: 'utf8', timeout: 120000 });
     assert(/stable True/.test(out), out);
     await p.close();
@@ -680,6 +681,65 @@ try {
     // without the outline it covers 6 pixels here (measured), with it 18
     assert(visible >= 12, `the S-hook covers ${visible} pixels from 15 m away (c ${JSON.stringify(c)})`);
     await q.close();
+  });
+
+  await test('x basics', async () => {
+    const p = await freshPage();
+    await p.getByTestId('open-file').setInputFiles(example);
+    await idle(p);
+    // the Delete key deletes the selected part (and its connections) or connection
+    await click(p, 'select-eyehook2');
+    await p.keyboard.press('Delete'); await idle(p);
+    assert((await connectionTexts(p)).length === 2, 'Delete did not delete eyehook2');
+    await click(p, 'undo');
+    await click(p, 'connection-text-0');
+    await p.keyboard.press('Delete'); await idle(p);
+    assert((await connectionTexts(p)).length === 3, 'Delete did not delete the selected connection');
+    await click(p, 'undo');
+    // the design's name names the downloads
+    await setField(p, 'design-name', 'Reading corner');
+    const [y] = await Promise.all([p.waitForEvent('download'), p.getByTestId('save-yaml').click()]);
+    const [py] = await Promise.all([p.waitForEvent('download'), p.getByTestId('export-python').click()]);
+    assert(y.suggestedFilename() === 'Reading_corner.yaml' && py.suggestedFilename() === 'Reading_corner.py', `${y.suggestedFilename()} ${py.suggestedFilename()}`);
+    assert(readFileSync(await y.path(), 'utf8').includes('name: Reading corner'), 'name not in the YAML');
+    // keyboard: everything clickable can be reached and pressed
+    const unreachable = await p.evaluate(() => [...document.querySelectorAll('.lib-item, .prim-item, .scene-prim, .conn-text, .tree-node, .tree-edge-group, #open-label')].filter((e) => !(e.tabIndex >= 0)).length);
+    assert(unreachable === 0, `${unreachable} clickable elements cannot be focused`);
+    await p.getByTestId('lib-part-DoubleHook').focus();
+    await p.keyboard.press('Enter'); await idle(p);
+    assert((await p.getByTestId('prim-panel-part').textContent()) === 'DoubleHook', 'Enter on a library part');
+    await p.getByTestId('lib-prim-hook1').focus();
+    await p.keyboard.press('Enter'); await idle(p);
+    assert((await p.getByTestId('lib-prim-hook1').getAttribute('class')).includes('picked'), 'Enter on a primitive');
+    await p.keyboard.press('Escape'); await idle(p);
+    // category filter; a 3D preview of the hovered library part
+    await p.getByTestId('category-filter').selectOption('environment');
+    const cats = await p.locator('.lib-item:not([hidden]) small').allTextContents();
+    assert(cats.length > 5 && cats.every((c) => c.startsWith('environment or target')), `filter: ${cats.slice(0, 3)}`);
+    await p.getByTestId('category-filter').selectOption('');
+    await p.getByTestId('part-search').fill('DoubleHook');
+    await p.getByTestId('lib-part-DoubleHookMedium').hover();
+    await p.getByTestId('part-preview').waitFor({ state: 'visible' });
+    assert((await p.getByTestId('part-preview').getAttribute('data-part')) === 'DoubleHookMedium', 'preview of another part');
+    assert((await p.locator('[data-testid=part-preview] img').getAttribute('src')).startsWith('data:image/png'), 'no preview picture');
+    await p.mouse.move(0, 0);
+    // a running solve can be cancelled
+    await p.route('**/api/hacks/solve', async (route) => { await new Promise((r) => setTimeout(r, 4000)); await route.continue().catch(() => {}); });
+    await p.getByTestId('solve').click();
+    await p.getByTestId('cancel-solve').click(); await idle(p);
+    assert(await p.getByTestId('solve-cancelled').isVisible(), 'not cancelled');
+    assert((await p.getByTestId('solve').textContent()) === 'Solve', 'solve button not back');
+    await p.unroute('**/api/hacks/solve');
+    // a 1024 px window leaves the 3D view room, and the columns can be resized
+    await p.setViewportSize({ width: 1024, height: 768 });
+    let w = (await p.getByTestId('scene-canvas').boundingBox()).width;
+    assert(w >= 460, `3D view ${w} px wide at 1024 px`);
+    const sp = await p.getByTestId('splitter-right').boundingBox();
+    await p.mouse.move(sp.x + 2, sp.y + 200); await p.mouse.down(); await p.mouse.move(sp.x + 82, sp.y + 200, { steps: 4 }); await p.mouse.up();
+    await p.waitForTimeout(100);
+    const w2 = (await p.getByTestId('scene-canvas').boundingBox()).width;
+    assert(Math.abs(w2 - w - 80) < 6, `dragging the splitter by 80 px: ${w} → ${w2}`);
+    await p.close();
   });
 
   await test('h load-design-from-server', async () => {

@@ -100,6 +100,7 @@ export class Shell {
     offs.push(history.onChange((d) => {
       this.storage.setDocument(kit, module.serialize(d), history.dirty());
       this.renderUndo();
+      this.renderName();
     }));
     offs.push(this.selection.onChange(() => this.renderSelectionLabel()));
     const ctx = this.context(module, history);
@@ -109,6 +110,7 @@ export class Shell {
     this.renderSwitcher();
     this.renderUndo();
     this.renderSelectionLabel();
+    this.renderName();
     this.exposeHooks();
   }
 
@@ -153,6 +155,45 @@ export class Shell {
     const m = this.active.mounted;
     this.selection.keepOnly((o) => m.exists(o));
     $('selection-label').textContent = m.describeSelection(this.selection.current);
+  }
+
+  private renderName(): void {
+    const f = $('design-name') as HTMLInputElement;
+    if (this.active && document.activeElement !== f) f.value = this.active.module.nameOf(this.active.history.current);
+  }
+
+  /** Column widths: dragging a splitter (or ←/→ on it) resizes its column; kept in local storage. */
+  private wireSplitters(): void {
+    const main = document.querySelector('main') as HTMLElement;
+    const widths = this.storage.get<{ left?: number; right?: number }>('shell', 'columns') ?? {};
+    const apply = () => {
+      if (widths.left) main.style.setProperty('--left-w', `${widths.left}px`);
+      if (widths.right) main.style.setProperty('--right-w', `${widths.right}px`);
+    };
+    apply();
+    for (const side of ['left', 'right'] as const) {
+      const sp = $(`splitter-${side}`);
+      const col = $(side);
+      const set = (w: number) => {
+        const max = Math.max(200, window.innerWidth - 240 - (side === 'left' ? $('right') : $('left')).offsetWidth - 10);
+        widths[side] = Math.round(Math.min(max, Math.max(160, w)));
+        apply(); this.storage.set('shell', 'columns', widths);
+      };
+      sp.addEventListener('pointerdown', (e) => {
+        e.preventDefault();
+        const x0 = e.clientX, w0 = col.offsetWidth;
+        sp.classList.add('dragging'); sp.setPointerCapture(e.pointerId);
+        const move = (ev: PointerEvent) => set(side === 'left' ? w0 + ev.clientX - x0 : w0 - (ev.clientX - x0));
+        const up = () => { sp.classList.remove('dragging'); sp.removeEventListener('pointermove', move); sp.removeEventListener('pointerup', up); };
+        sp.addEventListener('pointermove', move); sp.addEventListener('pointerup', up);
+      });
+      sp.addEventListener('keydown', (e) => {
+        if (e.key !== 'ArrowLeft' && e.key !== 'ArrowRight') return;
+        e.preventDefault();
+        const d = (e.key === 'ArrowRight' ? 20 : -20) * (side === 'left' ? 1 : -1);
+        set(col.offsetWidth + d);
+      });
+    }
   }
 
   private renderProjection(): void {
@@ -216,6 +257,19 @@ export class Shell {
   }
 
   private wire(): void {
+    this.wireSplitters();
+    const nameField = $('design-name') as HTMLInputElement;
+    nameField.addEventListener('change', () => {
+      const a = this.active; const name = nameField.value.trim();
+      if (!a || !name || name === a.module.nameOf(a.history.current)) { this.renderName(); return; }
+      a.history.apply(a.module.withName(a.history.current, name), `rename design to ${name}`);
+    });
+    $('open-label').addEventListener('keydown', (e) => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); ($('open-file') as HTMLInputElement).click(); } });
+    // Keyboard access: Enter or Space on anything marked role="button" acts like a click.
+    document.addEventListener('keydown', (e) => {
+      const t = e.target as HTMLElement;
+      if ((e.key === 'Enter' || e.key === ' ') && t.getAttribute?.('role') === 'button' && t.tagName !== 'BUTTON' && t.id !== 'open-label' && !(t instanceof SVGElement)) { e.preventDefault(); t.click(); }
+    });
     $('undo').addEventListener('click', () => this.history?.undo());
     $('redo').addEventListener('click', () => this.history?.redo());
     $('save-yaml').addEventListener('click', () => this.save());
@@ -236,6 +290,7 @@ export class Shell {
       const tag = (e.target as HTMLElement).tagName;
       if (tag === 'INPUT' || tag === 'SELECT' || tag === 'TEXTAREA' || ($('confirm') as HTMLDialogElement).open) return;
       if (e.key === 'Escape') this.active?.mounted.cancel?.();
+      if ((e.key === 'Delete' || e.key === 'Backspace') && !e.ctrlKey && !e.metaKey) { e.preventDefault(); this.active?.mounted.deleteSelection?.(); }
       if ((e.key === 'f' || e.key === 'F') && !e.ctrlKey && !e.metaKey) this.frameSelection();
       if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === 'z') { e.preventDefault(); if (e.shiftKey) this.history?.redo(); else this.history?.undo(); }
       if ((e.ctrlKey || e.metaKey) && e.key.toLowerCase() === 'y') { e.preventDefault(); this.history?.redo(); }

@@ -13,5 +13,6 @@ export const hacksWorkspace: WorkspaceModule<Design> = {
   parse: parseDesign,
   serialize: designToYaml,
   nameOf: (d) => d.name,
+  withName: (d, name) => ({ ...d, name }),
   mount: (ctx) => new HacksWorkspace(ctx),
 };

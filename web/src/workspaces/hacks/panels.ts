@@ -2,7 +2,7 @@
 // solve result, connection tree, parts in the design, scene primitives, check.
 import type { ApiError, PartInfo, SolveResult } from './api';
 import { cloneDesign, countOf, defaultParams, freshName, instances, removeInstance, renameRefs } from './model';
-import { lazyThumbnail } from './thumbs';
+import { lazyThumbnail, renderPreview } from './thumbs';
 import { renderTree } from './tree';
 import { el, frameEditor } from '../../shell/ui';
 import { connectSteps, describeError } from './workspace';
@@ -13,6 +13,8 @@ const fmt = (x: number, d = 1) => x.toFixed(d);
 
 export class Panels {
   private lib: HTMLElement;
+  private category: HTMLSelectElement;
+  private preview: HTMLElement;
   private search: HTMLInputElement;
   private primBody: HTMLElement;
   private frames: HTMLElement;
@@ -29,10 +31,15 @@ export class Panels {
   constructor(private w: HacksWorkspace) {
     const p = w.ctx.panel.bind(w.ctx);
     const libBody = p('left', 'library', 'Parts library');
-    this.search = el('input', { id: 'part-search', 'data-testid': 'part-search', placeholder: 'search parts…', type: 'search' }) as HTMLInputElement;
+    this.search = el('input', { id: 'part-search', 'data-testid': 'part-search', placeholder: 'search parts…', type: 'search', title: 'Search names, aliases, descriptions and categories' }) as HTMLInputElement;
+    this.category = el('select', { 'data-testid': 'category-filter', title: 'Show one category of parts' }) as HTMLSelectElement;
     this.lib = el('div', { id: 'library', 'data-testid': 'library' });
-    libBody.append(this.search, this.lib);
+    this.preview = el('div', { class: 'part-preview', 'data-testid': 'part-preview' });
+    this.preview.hidden = true;
+    libBody.append(el('div', { class: 'lib-filters' }, this.search, this.category), this.lib);
+    document.body.append(this.preview);
     this.search.addEventListener('input', () => this.renderLibrary());
+    this.category.addEventListener('change', () => this.renderLibrary());
     this.primBody = el('div', { id: 'prim-panel-body', 'data-testid': 'prim-panel' });
     p('left', 'primitives', 'Primitives').append(this.primBody);
     this.frames = el('div', { id: 'frames', 'data-testid': 'frames' });
@@ -88,11 +95,23 @@ export class Panels {
 
   solveBusy(busy: boolean): void {
     const btn = document.getElementById('solve') as HTMLButtonElement;
-    btn.disabled = busy; btn.textContent = busy ? 'Solving…' : 'Solve';
+    btn.textContent = busy ? 'Cancel solve' : 'Solve';
+    btn.title = busy ? 'Stop waiting for this solve (Esc)' : 'Reach the target, then relax under gravity';
+    btn.classList.toggle('cancel', busy);
     if (busy) {
-      this.solveBox.innerHTML = '<p class="busy" data-testid="solve-busy">Solving… (reaching the target, then relaxing under gravity)</p>';
+      this.solveBox.innerHTML = '';
+      this.solveBox.className = '';
+      this.solveBox.append(el('p', { class: 'busy', 'data-testid': 'solve-busy' }, 'Solving… (reaching the target, then relaxing under gravity) '),
+        button('Cancel', 'cancel-solve', () => this.w.cancelSolve(), { title: 'Stop waiting for this solve; the design is unchanged' }));
       this.solveBox.dataset.state = 'busy';
     }
+  }
+
+  solveCancelled(): void {
+    this.solveBox.innerHTML = '';
+    this.solveBox.className = '';
+    this.solveBox.append(el('p', { class: 'hint', 'data-testid': 'solve-cancelled' }, 'Solve cancelled; press Solve to run it again.'));
+    this.solveBox.dataset.state = 'cancelled';
   }
 
   /** "On target within [25] mm and [10]°": what counts as doing what was asked. */
@@ -146,30 +165,57 @@ export class Panels {
   // ---------------------------------------------------------------- library and primitives
   renderLibrary(): void {
     const q = this.search.value.trim().toLowerCase();
+    const cat = this.category.value;
     for (const item of this.lib.children) {
       const name = (item as HTMLElement).dataset.part!;
       const info = this.w.partByName.get(name)!;
-      const hay = [info.name, ...info.aliases, info.description, info.category].join(' ').toLowerCase();
-      (item as HTMLElement).hidden = !!q && !hay.includes(q);
+      const hay = [info.name, ...info.aliases, info.description, info.category, categoryLabel(info.category)].join(' ').toLowerCase();
+      (item as HTMLElement).hidden = (!!q && !hay.includes(q)) || (!!cat && info.category !== cat);
       item.classList.toggle('selected', name === this.w.selectedLibPart);
     }
   }
 
   buildLibrary(): void {
     this.lib.innerHTML = '';
+    const cats = [...new Set(this.w.library.map((p) => p.category))].sort();
+    this.category.innerHTML = '';
+    this.category.append(el('option', { value: '' }, 'all categories'), ...cats.map((c) => el('option', { value: c }, categoryLabel(c))));
     for (const p of this.w.library) {
       const img = el('img', { alt: p.name }) as HTMLImageElement;
-      const item = el('div', { class: 'lib-item', 'data-testid': `lib-part-${p.name}`, 'data-part': p.name }, img,
+      const item = el('div', { class: 'lib-item', 'data-testid': `lib-part-${p.name}`, 'data-part': p.name, role: 'button', tabindex: '0' }, img,
         el('div', {}, el('b', {}, p.name), el('small', {}, [categoryLabel(p.category), p.aliases.length ? `aka ${p.aliases.join(', ')}` : '', p.description].filter(Boolean).join(' · '))));
       item.title = [p.description, guidance(p.name)].filter(Boolean).join('\n');
       item.addEventListener('click', () => {
         this.w.selectedLibPart = p.name; this.renderLibrary(); this.renderPrimPanel();
         if (this.w.pick) void this.w.ctx.track(this.w.afterPickChange());
       });
+      item.addEventListener('mouseenter', () => void this.showPreview(p, item));
+      item.addEventListener('focus', () => void this.showPreview(p, item));
+      item.addEventListener('mouseleave', () => { this.preview.hidden = true; });
+      item.addEventListener('blur', () => { this.preview.hidden = true; });
       this.lib.appendChild(item);
       lazyThumbnail(this.w.api, p, img);
     }
   }
+
+  /** A larger 3D rendering of the hovered library part, with its primitives, beside the library. */
+  private async showPreview(p: PartInfo, item: HTMLElement): Promise<void> {
+    const shown = p.name;
+    this.previewFor = shown;
+    const url = await renderPreview(this.w.api, p, 220);
+    if (this.previewFor !== shown || !item.matches(':hover, :focus')) return;
+    const box = this.preview;
+    box.innerHTML = '';
+    box.dataset.part = p.name;
+    box.append(el('img', { src: url, width: '220', height: '220', alt: `${p.name} in 3D` }), el('b', {}, p.name),
+      el('div', { class: 'hint' }, p.description),
+      el('div', { class: 'hint' }, p.primitives.map((q) => `${q.name} (${q.type})`).join(', ')));
+    const r = item.getBoundingClientRect();
+    box.style.left = `${r.right + 8}px`;
+    box.style.top = `${Math.max(4, Math.min(window.innerHeight - 330, r.top - 40))}px`;
+    box.hidden = false;
+  }
+  private previewFor: string | null = null;
 
   renderPrimPanel(): void {
     const w = this.w;
@@ -201,7 +247,7 @@ export class Panels {
       const c = w.compat.get(key);
       const item = el('div', {
         class: 'prim-item' + (w.pick && c && !c.ok ? ' dim' : '') + (w.pick?.lib?.part === info.name && w.pick.lib.prim === p.name ? ' picked' : ''),
-        'data-testid': `lib-prim-${p.name}`, title: w.pick && c && !c.ok ? c.reason : p.description,
+        'data-testid': `lib-prim-${p.name}`, title: w.pick && c && !c.ok ? c.reason : p.description, role: 'button', tabindex: '0',
       }, el('span', {}, el('b', {}, p.name), ` ${p.type}${p.closed ? ' (closed)' : ''}`), el('small', {}, shapeSummary(p.shape)));
       if (!(w.pick && c && !c.ok)) item.title = `${p.description} — ${PRIMITIVE_WORDS_DOC[p.type] ?? p.type}. Click to pick it for a new ${info.name}, then click a primitive in the scene.`;
       item.addEventListener('click', () => void w.ctx.track(w.pickLibrary(info.name, p.name)));
@@ -261,7 +307,7 @@ export class Panels {
     d.connections.forEach((c, i) => {
       const step = steps[i];
       const rejected = step && !step.accepted;
-      const text = el('span', { class: 'conn-text', 'data-testid': `connection-text-${i}`, title: 'Click to select this connection' }, `${c.a} – ${c.b}`);
+      const text = el('span', { class: 'conn-text', 'data-testid': `connection-text-${i}`, title: 'Click to select this connection (Delete deletes it)', role: 'button', tabindex: '0' }, `${c.a} – ${c.b}`);
       text.addEventListener('click', () => w.selectConnection(i));
       const li = el('li', { 'data-testid': `connection-${i}`, class: (rejected ? 'rejected' : '') + (slipping.includes(i) ? ' slipping' : '') + (w.selectedConnection() === i ? ' selected' : '') },
         text, ' ',
@@ -347,7 +393,7 @@ export class Panels {
       const bad = !!w.failed && (w.failed.conn.a === key || w.failed.conn.b === key);
       const li = el('li', {
         class: 'scene-prim' + (dim ? ' dim' : '') + (w.pick?.scene === key ? ' picked' : '') + (sel.piece === key ? ' selected' : '') + (bad ? ' bad' : ''),
-        'data-testid': `scene-prim-${key}`, title: dim ? c!.reason : loose ? 'loose primitive: sizes are checked when you connect' : '',
+        'data-testid': `scene-prim-${key}`, title: dim ? c!.reason : loose ? 'loose primitive: sizes are checked when you connect' : `${key}: click to pick it for a connect (same as clicking it in the view)`, role: 'button', tabindex: '0',
       }, el('span', {}, key), el('small', {}, type + (loose ? ' (loose)' : '') + (dim ? ' — cannot connect' : '') + (bad ? ' — failed connect' : '')));
       li.addEventListener('click', () => void w.ctx.track(w.pickScene(key)));
       li.addEventListener('mouseenter', () => w.ctx.scene.setHover(key));

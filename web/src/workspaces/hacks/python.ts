@@ -70,6 +70,6 @@ export function designToPython(d: Design): string {
     const what = d.target.primitive ? `${ident(d.target.name)}.${d.target.primitive}` : ident(d.target.name);
     L.push(`assembly.end_with(${what}, ${frame(d.target.frame)})`);
   }
-  L.push('');
+  L.push('', 'result = assembly.solve()', 'print(result.summary())', 'print("stable", result.stable)', 'print(result)', '');
   return L.join('\n');
 }

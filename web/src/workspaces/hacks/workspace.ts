@@ -2,8 +2,9 @@
 // (connect, environment, target, solve) and its scene layer. Panels are in ./panels.ts.
 import * as THREE from 'three';
 import { ApiError, hacksApi } from './api';
+import { isAbort } from '../../shell/server';
 import type { CheckResult, CheckStep, Compat, HacksApi, MeshData, PartInfo, PartMesh, PlacedPart, PrimRef, SolveResult } from './api';
-import { Inventory, cloneDesign, countOf, freshName, instances, renameRefs } from './model';
+import { Inventory, cloneDesign, countOf, freshName, instances, removeInstance, renameRefs } from './model';
 import { shortName } from './words';
 import type { Connection, Design, EnvItem } from './model';
 import { designToYaml } from './yamlio';
@@ -196,7 +197,24 @@ export class HacksWorkspace implements MountedWorkspace {
 
   onDisplayChange(): void { this.panels.render(); }
 
+  /** The Delete key: deletes the selected connection, or the selected part with its connections. */
+  deleteSelection(): void {
+    const ci = this.selectedConnection();
+    const h = this.ctx.history;
+    if (ci !== null) {
+      const n = cloneDesign(this.design); const c = n.connections.splice(ci, 1)[0];
+      this.ctx.selection.clear();
+      h.apply(n, `delete connection ${c.a} – ${c.b}`);
+      return;
+    }
+    const o = this.ctx.selection.current.object;
+    if (!o || !this.exists(o)) { this.ctx.message('Select a part or a connection to delete it with the Delete key.', 'info'); return; }
+    this.ctx.selection.clear();
+    h.apply(removeInstance(this.design, o), `delete ${o}`);
+  }
+
   cancel(): boolean {
+    if (this.solving) { this.cancelSolve(); return true; }
     const had = !!this.pick;
     this.pick = null;
     void this.ctx.track(this.afterPickChange());
@@ -710,10 +728,20 @@ export class HacksWorkspace implements MountedWorkspace {
   }
 
   // ---------------------------------------------------------------- solve
+  private solving: AbortController | null = null;
+
+  /** Stops waiting for a running solve (the server finishes it on its own; its answer is dropped). */
+  cancelSolve(): void { this.solving?.abort(); }
+
   async solve(): Promise<void> {
+    if (this.solving) { this.cancelSolve(); return; }
     this.panels.solveBusy(true);
+    const ctl = new AbortController();
+    this.solving = ctl;
     try {
-      this.lastSolve = await this.api.solve(designToYaml(this.design));
+      this.lastSolve = await this.api.solve(designToYaml(this.design), ctl.signal);
+      this.solving = null;
+      this.panels.solveBusy(false);
       this.panels.solveResult(this.lastSolve, null);
       await this.updateScene();
       await this.settle();
@@ -721,8 +749,9 @@ export class HacksWorkspace implements MountedWorkspace {
       return;
     } catch (e) {
       this.lastSolve = null;
-      this.panels.solveResult(null, e as ApiError);
+      if (isAbort(e)) this.panels.solveCancelled(); else this.panels.solveResult(null, e as ApiError);
     } finally {
+      if (this.solving === ctl) this.solving = null;
       this.panels.solveBusy(false);
     }
     await this.updateScene();
