@@ -152,6 +152,7 @@ try {
     const err = await page.getByTestId('target-error').textContent();
     assert(err.includes(expectedError), `target error "${err}" vs API "${expectedError}"`);
     assert(expectedError.startsWith('18.0 mm, 0.0'), `API error ${expectedError}`);
+    await shot(page, 'task1-solved');
   });
 
   await test('e connection-tree', async () => {
@@ -269,6 +270,7 @@ try {
     await p.mouse.move(pt.x, pt.y);
     const tip = await p.getByTestId('tooltip').textContent();
     assert(tip.includes('hook opening 9.6 mm is smaller than rod radius 12.7 mm'), `tooltip: ${tip}`);
+    await p.screenshot({ path: path.join(docsShots ? path.join(repo, 'docs/editor') : tmpdir(), 'failing-connect.png') });
     await p.close();
   });
 
@@ -451,14 +453,20 @@ try {
     assert(label.includes('ring') && label.includes('HookEyeConnector'), `label while a library primitive is picked: ${label}`);
     const cls = await p.getByTestId('lib-prim-ring').getAttribute('class');
     assert(cls.includes('picked') && !cls.includes('dim'), `picked primitive: ${cls}`);
-    // the pick banner does not cover the view buttons
+    await p.keyboard.press('Escape'); await idle(p);
+    // the pick banner (a primitive picked in the scene) does not cover the view buttons
+    await click(p, 'scene-prim-env1.rod1');
     const banner = await p.getByTestId('pick-label').boundingBox();
+    assert(banner, 'no pick banner');
     for (const b of ['view-all', 'view-top', 'view-front', 'view-side', 'view-iso']) {
       const r = await p.getByTestId(b).boundingBox();
       const overlap = banner.x < r.x + r.width && r.x < banner.x + banner.width && banner.y < r.y + r.height && r.y < banner.y + banner.height;
       assert(!overlap, `pick banner covers ${b}`);
     }
     await p.keyboard.press('Escape'); await idle(p);
+    const cv = await p.getByTestId('scene-canvas').boundingBox();
+    await p.mouse.click(cv.x + 5, cv.y + cv.height - 60); await idle(p); // empty view: nothing selected
+    assert((await p.getByTestId('selection-label').textContent()) === 'Nothing selected', 'clicking empty space keeps the selection');
     // hovering a primitive in the 3D view highlights it
     const pt = await p.evaluate(() => window.__fabkit.screenPointOf('env1.rod1'));
     await p.mouse.move(pt.x, pt.y);
@@ -597,6 +605,12 @@ try {
     await p.getByTestId('tree-node-hoop').click(); await idle(p);
     assert((await p.getByTestId('selection-label').textContent()).includes('part hoop'), 'node click');
     await p.getByTestId('tree').screenshot({ path: path.join(docsShots ? path.join(repo, 'docs/editor') : tmpdir(), 'tree-reading-nook.png') });
+    if (docsShots) { // the reading nook solved, for docs/editor.md (not part of the test)
+      await p.getByTestId('tree-node-hoop').click(); await idle(p);
+      await click(p, 'solve');
+      await click(p, 'view-iso');
+      await shot(p, 'reading-nook-solved');
+    }
     await p.close();
   });
 

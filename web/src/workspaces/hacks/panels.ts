@@ -72,8 +72,9 @@ export class Panels {
   // ---------------------------------------------------------------- 3D view overlays
   pickLabel(): void {
     const pick = this.w.pick;
-    document.getElementById('pick-label')!.textContent = pick
-      ? `Picked: ${pick.scene ?? `${pick.lib!.part}.${pick.lib!.prim} (new part)`} — pick a second primitive to connect (Esc cancels)` : '';
+    // a library pick is named by the selection label; a scene pick gets the instruction here
+    document.getElementById('pick-label')!.textContent = pick?.scene
+      ? `Picked: ${pick.scene} — pick a second primitive to connect (Esc cancels)` : '';
   }
 
   hover(key: string | null, x: number, y: number): void {
