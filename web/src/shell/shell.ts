@@ -160,6 +160,7 @@ export class Shell {
   private renderName(): void {
     const f = $('design-name') as HTMLInputElement;
     if (this.active && document.activeElement !== f) f.value = this.active.module.nameOf(this.active.history.current);
+    f.readOnly = !this.active?.module.withName;
   }
 
   /** Column widths: dragging a splitter (or ←/→ on it) resizes its column; kept in local storage. */
@@ -261,7 +262,7 @@ export class Shell {
     const nameField = $('design-name') as HTMLInputElement;
     nameField.addEventListener('change', () => {
       const a = this.active; const name = nameField.value.trim();
-      if (!a || !name || name === a.module.nameOf(a.history.current)) { this.renderName(); return; }
+      if (!a || !a.module.withName || !name || name === a.module.nameOf(a.history.current)) { this.renderName(); return; }
       a.history.apply(a.module.withName(a.history.current, name), `rename design to ${name}`);
     });
     $('open-label').addEventListener('keydown', (e) => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); ($('open-file') as HTMLInputElement).click(); } });

@@ -26,8 +26,8 @@ export interface WorkspaceModule<D = any> {
   serialize(doc: D): string;
   /** The design's name, used for download file names. */
   nameOf(doc: D): string;
-  /** A copy of the document with another name (the toolbar's design-name field). */
-  withName(doc: D, name: string): D;
+  /** A copy of the document with another name (the toolbar's design-name field; without it the field is read-only). */
+  withName?(doc: D, name: string): D;
   /** Builds the workspace's panels and layers; called when the user switches to it. */
   mount(ctx: ShellContext<D>): MountedWorkspace;
 }
