@@ -71,7 +71,7 @@ export class HacksWorkspace implements MountedWorkspace {
     ctx.toolbarButton('run', 'Solve', 'solve', 'Reach the target, then relax under gravity', () => void ctx.track(this.solve()), { primary: true });
     this.offs.push(ctx.history.onChange((_d, label) => {
       this.lastSolve = null; this.failed = null;
-      if (label.startsWith('open')) this.sceneFramed = false;
+      if (label.startsWith('open') || label === 'new design') this.sceneFramed = false;
       this.panels.solveStale();
       void ctx.track(this.refresh());
     }));
