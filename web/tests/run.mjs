@@ -151,7 +151,12 @@ try {
     assert(verdict === 'STABLE', `verdict ${verdict}`);
     const err = await page.getByTestId('target-error').textContent();
     assert(err.includes(expectedError), `target error "${err}" vs API "${expectedError}"`);
-    assert(expectedError.startsWith('18.0 mm, 0.0'), `API error ${expectedError}`);
+    // Step 1 places the basket on its goal; under gravity it settles a little on the two hooks. The
+    // design is mirror-symmetric across the basket's handle, so it stays level.
+    assert(apiSolve.target.step1.pos_error_mm < 0.01, `step 1 missed the goal: ${JSON.stringify(apiSolve.target.step1)}`);
+    assert(apiSolve.target.pos_error_mm > 0.5 && apiSolve.target.pos_error_mm < 10, `settling ${apiSolve.target.pos_error_mm} mm`);
+    assert(apiSolve.target.tilt_deg < 1, `a symmetric basket tilted ${apiSolve.target.tilt_deg}°`);
+    assert((await page.getByTestId('target-verdict').textContent()).startsWith('ON TARGET'), 'a few mm of settling is on target');
     await shot(page, 'task1-solved');
   });
 
