@@ -652,6 +652,14 @@ try {
     // every button says what it does
     const untitled = await p.evaluate(() => [...document.querySelectorAll('button, [role=button]')].filter((b) => !(b.title || b.getAttribute('aria-label') || b.querySelector('title'))).map((b) => b.dataset.testid || b.textContent));
     assert(!untitled.length, `buttons without a description: ${untitled.join(', ')}`);
+    // and every part in the library has a one-line description
+    await p.getByTestId('part-search').fill('');
+    const lib = await (await fetch(`${url}api/hacks/parts`)).json();
+    const undescribed = await p.evaluate((lib) => lib.filter((info) => {
+      const item = document.querySelector(`[data-testid="lib-part-${info.name}"]`);
+      return !info.description.trim() || !item || !item.title.startsWith(info.description);
+    }).map((info) => info.name), lib);
+    assert(lib.length > 40 && !undescribed.length, `${lib.length} library parts, shown without a description: ${undescribed.join(', ')}`);
     await p.close();
   });
 
