@@ -553,6 +553,12 @@ try {
     const c = await p.evaluate(() => window.__fabkit.project('turnbuckle'));
     assert(Math.hypot(c.x - centre.x, c.y - centre.y) < 6, `frame selection: ${JSON.stringify(c)} vs centre ${JSON.stringify(centre)}`);
     assert((await p.evaluate(() => window.__fabkit.camera())).position.join() !== camAfterZoom.position.join(), 'camera did not move');
+    // and so does the F key
+    await click(p, 'view-all');
+    await p.getByTestId('scene-canvas').focus();
+    await p.keyboard.press('f'); await idle(p);
+    const k = await p.evaluate(() => window.__fabkit.project('turnbuckle'));
+    assert(Math.hypot(k.x - centre.x, k.y - centre.y) < 6, `F key: ${JSON.stringify(k)} vs centre ${JSON.stringify(centre)}`);
     // standard views are orthographic, Iso perspective
     await click(p, 'view-front');
     assert((await p.evaluate(() => window.__fabkit.camera())).type === 'OrthographicCamera', 'front view not orthographic');
