@@ -339,8 +339,20 @@ KitApi hacks_api(const ApiContext& context) {
            res.set_content(*bytes, "model/gltf-binary");
            return;
          }
-         res.status = 200;
-         res.set_content(result_json(d.assembly, r, d.name), "application/json");
+         // result.json, plus for the editor every part's frame after step 1 (before gravity),
+         // so it can show the assembly settling.
+         json out = json::parse(result_json(d.assembly, r, d.name));
+         json step1 = json::array();
+         if (r.step1_parameters.size() == d.assembly.values().size()) {
+           const std::vector<Mat4> frames = d.assembly.part_frames(r.step1_parameters);
+           for (int i = 0; i < d.assembly.part_count(); ++i) {
+             step1.push_back(
+                 {{"name", d.assembly.label(PartId{i})},
+                  {"frame", to_json(Frame::from_matrix(frames[static_cast<std::size_t>(i)]))}});
+           }
+         }
+         out["step1_parts"] = step1;
+         reply(res, 200, out);
        }});
   return api;
 }
