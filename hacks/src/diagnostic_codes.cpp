@@ -21,7 +21,8 @@ std::span<const DiagnosticCode> hacks_codes() {
                                       codes::kTargetMissing,
                                       codes::kNotConnected,
                                       codes::kNotAtRest,
-                                      codes::kFallsApart};
+                                      codes::kFallsApart,
+                                      codes::kNotASolid};
   return kAll;
 }
 
