@@ -1,8 +1,8 @@
 # The files a maker builds from, judged by an independent tool: `fabkit solve -o` of every
 # gallery design writes an assembly.stl in which admesh finds as many separate parts as fabkit
 # says it wrote closed shells, with nothing to fix (no open or non-manifold edge after merging
-# coincident vertices, no flipped or degenerate facet). A second run reads the solids the first
-# kept in the cache directory and writes the same file byte for byte.
+# coincident vertices, no flipped or degenerate facet). For three designs, a second run reads
+# the solids the first kept in the cache directory and writes the same file byte for byte.
 # Run by ctest as: cmake -DFABKIT=<binary> -DSOURCE_DIR=<repo> -DADMESH=<admesh> -P <this file>
 if(NOT ADMESH)
   message(FATAL_ERROR "admesh is missing (Debian package admesh, installed by scripts/setup)")
@@ -15,7 +15,11 @@ set(ENV{FABKIT_CACHE_DIR} ${tmp}/cache)
 foreach(example toothbrush_holder charger_holder soap_bottle_holder soap_bottle_one_eyehook
                 mug_hanger paper_towel_holder diaper_caddy basket_between_rods bird_feeder demo
                 clip_light_xs clip_light_s clip_light_m clip_light_l reading_nook)
-  foreach(run first second)
+  set(runs first)
+  if(example MATCHES "^(toothbrush_holder|bird_feeder|clip_light_s)$")
+    list(APPEND runs second)
+  endif()
+  foreach(run ${runs})
     execute_process(COMMAND ${FABKIT} solve ${SOURCE_DIR}/examples/hacks/${example}.yaml
                             -o ${tmp}/${example}_${run}
                     RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -44,10 +48,12 @@ foreach(example toothbrush_holder charger_holder soap_bottle_holder soap_bottle_
       message(FATAL_ERROR "${example}: admesh reports ${field}: ${CMAKE_MATCH_1} in assembly.stl\n${report}")
     endif()
   endforeach()
-  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${stl}
-                          ${tmp}/${example}_second/assembly.stl RESULT_VARIABLE differ)
-  if(differ)
-    message(FATAL_ERROR "${example}: the second run, from the kept solids, wrote another assembly.stl")
+  if(EXISTS ${tmp}/${example}_second)
+    execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${stl}
+                            ${tmp}/${example}_second/assembly.stl RESULT_VARIABLE differ)
+    if(differ)
+      message(FATAL_ERROR "${example}: the second run, from the kept solids, wrote another assembly.stl")
+    endif()
   endif()
 endforeach()
 file(GLOB kept ${tmp}/cache/solids/*.solid)
