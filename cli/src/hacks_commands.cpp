@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <optional>
 
@@ -152,6 +153,21 @@ void print_parts_table(const hacks::SolveResult& r) {
   std::printf("\n");
 }
 
+// Where exported parts' solids are kept between runs (part_solid.h), so that only the first
+// export of a part type on this machine runs the exact unions: $FABKIT_CACHE_DIR, else
+// $XDG_CACHE_HOME/fabkit, else ~/.cache/fabkit, with solids/ under it; empty (memory only)
+// when none is set.
+std::filesystem::path solid_cache_directory() {
+  const auto env = [](const char* name) -> std::filesystem::path {
+    const char* value = std::getenv(name);
+    return value && *value ? std::filesystem::path(value) : std::filesystem::path();
+  };
+  std::filesystem::path base = env("FABKIT_CACHE_DIR");
+  if (base.empty() && !env("XDG_CACHE_HOME").empty()) base = env("XDG_CACHE_HOME") / "fabkit";
+  if (base.empty() && !env("HOME").empty()) base = env("HOME") / ".cache" / "fabkit";
+  return base.empty() ? base : base / "solids";
+}
+
 // Verifies, solves and exports one design; prints progress as it goes.
 int solve_design(Design design, const DesignSettings& settings, bool write) {
   const bool talk = !settings.quiet;
@@ -211,15 +227,28 @@ int solve_design(Design design, const DesignSettings& settings, bool write) {
     Diagnostics d;
     hacks::ExportOptions eo;
     eo.design_name = design.name;
-    if (!hacks::export_solution(design.assembly, result, settings.output_dir, d, eo)) {
-      print_diagnostics(d);
-      return exit_code(d);
-    }
+    hacks::PartSolidCache solids(solid_cache_directory());
+    eo.solids = &solids;
+    const bool written =
+        hacks::export_solution(design.assembly, result, settings.output_dir, d, eo);
+    // Also the warnings of a written export (a part kept as its display mesh).
+    print_diagnostics(d);
+    if (!written) return exit_code(d);
     if (talk) {
+      int shells = 0;  // the cache holds every part's solid now
+      bool all_solid = true;
+      for (const hacks::PartNode& n : design.assembly.nodes()) {
+        const hacks::PartSolid& s = solids.solid(*n.part);
+        shells += s.shells;
+        all_solid = all_solid && s.exact;
+      }
       std::printf(
           "wrote %s/result.json, scene.glb (open it in any glTF viewer), assembly.stl, "
-          "assembly.obj\n",
-          settings.output_dir.c_str());
+          "assembly.obj (%d parts as %d %s)\n",
+          settings.output_dir.c_str(),
+          design.assembly.part_count(),
+          shells,
+          all_solid ? "closed shells" : "shells, see the warnings");
     }
   }
   for (const hacks::Slip& s : result.slips) {

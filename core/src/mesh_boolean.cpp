@@ -19,6 +19,7 @@
 #include <exception>
 #include <map>
 #include <tuple>
+#include <type_traits>
 
 namespace fabkit {
 namespace {
@@ -132,14 +133,64 @@ TriangleMesh canonical(TriangleMesh m) {
   return m;
 }
 
+// The same exact solid with its vertices in lexicographic order of their exact coordinates
+// and its faces in order of their vertices, so that what walks it in index order (the sliver
+// removal) does the same on every run.
+ExactMesh canonical_exact(const ExactMesh& mesh) {
+  std::vector<ExactMesh::Vertex_index> order(mesh.vertices().begin(), mesh.vertices().end());
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) {
+    return CGAL::compare_xyz(mesh.point(a), mesh.point(b)) == CGAL::SMALLER;
+  });
+  std::map<ExactMesh::Vertex_index, int> new_index;
+  for (std::size_t k = 0; k < order.size(); ++k) new_index[order[k]] = static_cast<int>(k);
+  std::vector<std::array<int, 3>> faces;
+  faces.reserve(mesh.number_of_faces());
+  for (const auto f : mesh.faces()) {
+    std::array<int, 3> tri{};
+    int k = 0;
+    for (const auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+      if (k < 3) tri[static_cast<std::size_t>(k)] = new_index[v];
+      ++k;
+    }
+    while (tri[0] > tri[1] || tri[0] > tri[2]) tri = {tri[1], tri[2], tri[0]};
+    faces.push_back(tri);
+  }
+  std::sort(faces.begin(), faces.end());
+  ExactMesh out;
+  std::vector<ExactMesh::Vertex_index> added;
+  added.reserve(order.size());
+  for (const auto v : order) added.push_back(out.add_vertex(mesh.point(v)));
+  for (const auto& f : faces) {
+    out.add_face(added[static_cast<std::size_t>(f[0])],
+                 added[static_cast<std::size_t>(f[1])],
+                 added[static_cast<std::size_t>(f[2])]);
+  }
+  return out;
+}
+
+// A lazy exact coordinate's double is the midpoint of whatever interval it holds, which is
+// tighter once something forced its exact value: for the same double every run, round the
+// exact value itself.
+double rounded_exactly(const Epeck::FT& x) {
+  return CGAL::to_double(CGAL::exact(x));
+}
+
+// `exact_rounding`: vertices rounded from their exact values (deterministic, slower).
 template <class Mesh>
-TriangleMesh from_cgal(const Mesh& mesh) {
+TriangleMesh from_cgal(const Mesh& mesh, bool exact_rounding = false) {
   TriangleMesh out;
   std::map<typename Mesh::Vertex_index, int> index;
   out.vertices.reserve(mesh.number_of_vertices());
   for (const auto v : mesh.vertices()) {
     const auto& p = mesh.point(v);
     index[v] = static_cast<int>(out.vertices.size());
+    if constexpr (std::is_same_v<Mesh, ExactMesh>) {
+      if (exact_rounding) {
+        out.vertices.emplace_back(
+            rounded_exactly(p.x()), rounded_exactly(p.y()), rounded_exactly(p.z()));
+        continue;
+      }
+    }
     out.vertices.emplace_back(
         CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
   }
@@ -258,10 +309,34 @@ TriangleMesh convex_hull(std::span<const Vec3> points) {
   }
 }
 
+TriangleMesh rounded_to_float32(const TriangleMesh& mesh) {
+  TriangleMesh out;
+  std::map<std::array<float, 3>, int> index;
+  std::vector<int> new_index(mesh.vertices.size());
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Vec3& v = mesh.vertices[i];
+    // + 0.0f: -0 and +0 are one point.
+    const std::array<float, 3> key{static_cast<float>(v.x()) + 0.0f,
+                                   static_cast<float>(v.y()) + 0.0f,
+                                   static_cast<float>(v.z()) + 0.0f};
+    const auto [it, inserted] = index.try_emplace(key, static_cast<int>(out.vertices.size()));
+    if (inserted) out.vertices.emplace_back(key[0], key[1], key[2]);
+    new_index[i] = it->second;
+  }
+  out.faces.reserve(mesh.faces.size());
+  for (const auto& f : mesh.faces) {
+    out.faces.emplace_back(new_index[static_cast<std::size_t>(f[0])],
+                           new_index[static_cast<std::size_t>(f[1])],
+                           new_index[static_cast<std::size_t>(f[2])]);
+  }
+  return out;
+}
+
 std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
                                          std::span<const SolidInput> subtract,
                                          std::string_view what,
-                                         Diagnostics& diags) {
+                                         Diagnostics& diags,
+                                         const BooleanOptions& options) {
   auto fail = [&](const std::string& why) -> std::optional<TriangleMesh> {
     diags.error(codes::kBooleanFailed, fmt::format("{}: exact boolean failed: {}", what, why));
     return std::nullopt;
@@ -279,13 +354,17 @@ std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
         return fail(fmt::format("solid {} to subtract is not a closed manifold", i + 1));
       }
     }
+    // For files, each union starts from a canonical order of the one before: corefinement
+    // triangulates ties (cocircular points) in an order that follows memory addresses, and
+    // the next union, the sliver removal and so the file would differ from run to run.
+    const bool for_files = options.min_feature_mm > 0;
     ExactMesh result = adds[0];
     for (std::size_t i = 1; i < adds.size(); ++i) {
       ExactMesh out;
       if (!PMP::corefine_and_compute_union(result, adds[i], out)) {
         return fail(fmt::format("the union with solid {} is not a manifold", i + 1));
       }
-      result = std::move(out);
+      result = for_files ? canonical_exact(out) : std::move(out);
     }
     for (std::size_t i = 0; i < subs.size(); ++i) {
       if (!boxes_overlap(result, subs[i])) continue;
@@ -294,6 +373,25 @@ std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
         return fail(fmt::format("subtracting solid {} leaves a non-manifold", i + 1));
       }
       result = std::move(out);
+    }
+    if (options.min_feature_mm > 0) {
+      // Needles: any triangle's shortest edge under the size (ratio threshold 1); caps: any
+      // obtuse triangle (cosine threshold 0) whose height is under it.
+      const double size = options.min_feature_mm;
+      result = canonical_exact(result);
+      PMP::experimental::remove_almost_degenerate_faces(
+          result, 0.0, 1.0, size, CGAL::parameters::flip_triangle_height_threshold(size));
+      // Then caps of any height flatter than 176° (needles off): with their near-straight
+      // angle they lie within a rounding of their neighbours across a shallow crease.
+      PMP::experimental::remove_almost_degenerate_faces(result, -0.9975, 1e6, size);
+      if (!CGAL::is_closed(result)) return fail("removing slivers opened the solid");
+      TriangleMesh rounded = from_cgal(result, /*exact_rounding=*/true);
+      if (rounding_folds(rounded) || rounding_folds(rounded_to_float32(rounded))) {
+        return fail(fmt::format(
+            "the result with slivers under {:g} mm removed does not stay a solid in float32",
+            size));
+      }
+      return canonical(std::move(rounded));
     }
     TriangleMesh rounded = from_cgal(result);
     if (rounding_folds(rounded)) {
@@ -326,15 +424,18 @@ std::vector<SolidInput> as_inputs(std::span<const TriangleMesh> meshes) {
 std::optional<TriangleMesh> mesh_boolean(std::span<const TriangleMesh> add,
                                          std::span<const TriangleMesh> subtract,
                                          std::string_view what,
-                                         Diagnostics& diags) {
+                                         Diagnostics& diags,
+                                         const BooleanOptions& options) {
   const std::vector<SolidInput> a = as_inputs(add), b = as_inputs(subtract);
-  return mesh_boolean(std::span<const SolidInput>(a), std::span<const SolidInput>(b), what, diags);
+  return mesh_boolean(
+      std::span<const SolidInput>(a), std::span<const SolidInput>(b), what, diags, options);
 }
 
 std::optional<TriangleMesh> mesh_union(std::span<const TriangleMesh> solids,
                                        std::string_view what,
-                                       Diagnostics& diags) {
-  return mesh_boolean(solids, std::span<const TriangleMesh>(), what, diags);
+                                       Diagnostics& diags,
+                                       const BooleanOptions& options) {
+  return mesh_boolean(solids, std::span<const TriangleMesh>(), what, diags, options);
 }
 
 std::optional<TriangleMesh> mesh_difference(const TriangleMesh& solid,

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 namespace fabkit {
@@ -35,6 +36,46 @@ TEST(MeshBoolean, UnionSharingCoplanarFacesStaysManifold) {
   const SolidCheck c = check_solid(*u);
   EXPECT_TRUE(c.valid_solid()) << c.problems();
   EXPECT_NEAR(c.volume, 2000, 1e-6);
+}
+
+// For files: `min_feature_mm` removes the slivers a near miss leaves. Two cubes meeting face to
+// face but overlapping by 0.1 µm in x and off by 0.1 µm in y and 0.3 µm in z (what two pieces
+// computed along different paths give) unite into a solid whose every edge is at least 10 µm, which
+// stays a solid with its coordinates in float32 a metre away, and is the same solid on every run.
+TEST(MeshBoolean, ForFilesRemovesSliversOfANearMiss) {
+  const std::vector<TriangleMesh> cubes = {cube(10, {0, 0, 0}), cube(10, {9.9999, 1e-4, 3e-4})};
+  Diagnostics d;
+  const auto raw = mesh_union(cubes, "raw", d);
+  ASSERT_TRUE(raw) << d.format();
+  auto shortest_edge = [](const TriangleMesh& m) {
+    double shortest = 1e300;
+    for (const auto& f : m.faces) {
+      for (int k = 0; k < 3; ++k) {
+        shortest = std::min(shortest,
+                            (m.vertices[static_cast<std::size_t>(f[k])] -
+                             m.vertices[static_cast<std::size_t>(f[(k + 1) % 3])])
+                                .norm());
+      }
+    }
+    return shortest;
+  };
+  EXPECT_LT(shortest_edge(*raw), 1e-3);  // the slivers are there without the option
+  const BooleanOptions for_files{0.01};
+  const auto clean = mesh_union(cubes, "clean", d, for_files);
+  ASSERT_TRUE(clean) << d.format();
+  const SolidCheck c = check_solid(*clean);
+  EXPECT_TRUE(c.valid_solid()) << c.problems();
+  EXPECT_EQ(c.components, 1);
+  // 2000 mm³ less the 0.1 µm-thin overlap; removing the steps moves faces by under 1 µm.
+  EXPECT_NEAR(c.volume, 2000 - 0.01, 0.05);
+  EXPECT_GE(shortest_edge(*clean), 0.01);
+  TriangleMesh far = clean->transformed(translation(1000.0, -700.0, 300.0));
+  for (Vec3& v : far.vertices) v = v.cast<float>().cast<double>();
+  EXPECT_TRUE(check_solid(far).valid_solid()) << check_solid(far).problems();
+  const auto again = mesh_union(cubes, "again", d, for_files);
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->vertices, clean->vertices);
+  EXPECT_EQ(again->faces, clean->faces);
 }
 
 TEST(MeshBoolean, DifferenceDrillsAHole) {

@@ -123,6 +123,14 @@ bool sane_frame(const Frame& f) {
          f.rot.cwiseAbs().maxCoeff() <= 36000;
 }
 
+// Whether `part` is loose primitives (make_primitive_part): its mesh is nothing but its
+// primitives' shapes, so it can be drawn again from them once they move.
+bool made_of_primitives(const Part& part) {
+  TriangleMesh drawn;
+  for (const Primitive& p : part.primitives) drawn.append(primitive_mesh(p));
+  return drawn.faces == part.mesh.faces && drawn.vertices == part.mesh.vertices;
+}
+
 std::string frame_problem(std::string_view what, const Frame& f) {
   if (!finite_frame(f))
     return fmt::format("{}: frame {} has a non-finite value", what, f.to_string());
@@ -212,8 +220,16 @@ ConnectReport Assembly::add(const PrimitiveRef& primitive,
   }
   auto copy = std::make_shared<Part>(*n.part);
   copy->primitives[primitive.index.index()].frame = frame;
-  n.part = std::move(copy);
   n.placed[primitive.index.index()] = true;
+  if (made_of_primitives(*primitive.part)) {
+    // Drawn where the primitives are placed, and without those not placed yet (which take no
+    // part in anything until they are): the pictures and files show the world as added.
+    copy->mesh = TriangleMesh();
+    for (std::size_t i = 0; i < copy->primitives.size(); ++i) {
+      if (n.placed[i]) copy->mesh.append(primitive_mesh(copy->primitives[i]));
+    }
+  }
+  n.part = std::move(copy);
   report.description = fmt::format("{} at {}", who, frame.to_string());
   report.accepted = true;
   return report;

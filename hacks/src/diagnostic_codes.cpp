@@ -22,7 +22,8 @@ std::span<const DiagnosticCode> hacks_codes() {
                                       codes::kNotConnected,
                                       codes::kNotAtRest,
                                       codes::kPartsOverlap,
-                                      codes::kFallsApart};
+                                      codes::kFallsApart,
+                                      codes::kNotASolid};
   return kAll;
 }
 

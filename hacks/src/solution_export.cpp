@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <fstream>
 #include <system_error>
 
@@ -23,6 +24,34 @@ ordered_json pose_error_json(const PoseError& e) {
           {"tilt_deg", tidy(e.tilt_deg)},
           {"twist_deg", tidy(e.twist_deg)},
           {"twist_free", e.twist_free}};
+}
+
+// The parts' objects (the first part_count() of a solution scene) get their solids, each at a
+// placement where it stays a solid in float32 files.
+void use_solids(const Assembly& assembly,
+                PartSolidCache& solids,
+                std::vector<SceneObject>& scene,
+                Diagnostics& diags) {
+  // Warn once per part type, however many instances share its solid.
+  std::vector<const PartSolid*> warned;
+  for (int i = 0; i < assembly.part_count(); ++i) {
+    SceneObject& object = scene[static_cast<std::size_t>(i)];
+    const PartSolid& s = solids.solid(*assembly.node(PartId{i}).part);
+    object.mesh = s.mesh;
+    if (!s.diagnostics.empty() && std::find(warned.begin(), warned.end(), &s) == warned.end()) {
+      diags.append(s.diagnostics);
+      warned.push_back(&s);
+    }
+    if (!s.exact || s.mesh.empty()) continue;
+    if (const std::optional<Mat4> safe = float32_safe_placement(s.mesh, object.transform)) {
+      object.transform = *safe;
+    } else {
+      diags.warning(codes::kNotASolid,
+                    fmt::format("{}: its solid intersects itself once its coordinates are "
+                                "rounded to float32 at its pose (assembly.stl)",
+                                object.name));
+    }
+  }
 }
 
 }  // namespace
@@ -128,6 +157,16 @@ std::vector<SceneObject> solution_scene(const Assembly& assembly, const SolveRes
   return out;
 }
 
+std::vector<SceneObject> solid_scene(const Assembly& assembly,
+                                     const SolveResult& result,
+                                     PartSolidCache& solids,
+                                     Diagnostics& diags) {
+  std::vector<SceneObject> scene = solution_scene(assembly, result);
+  use_solids(assembly, solids, scene, diags);
+  scene.resize(static_cast<std::size_t>(assembly.part_count()));
+  return scene;
+}
+
 TriangleMesh solution_mesh(const Assembly& assembly, const SolveResult& r) {
   TriangleMesh all;
   const std::vector<Mat4> frames = assembly.part_frames(r.parameters);
@@ -147,9 +186,10 @@ bool export_solution(const Assembly& assembly,
   bool ok = write_file_atomically(
       directory / "result.json", result_json(assembly, result, options.design_name), diags);
   // The pictures show what slips (red markers); the files to build from hold the parts only.
-  const std::vector<SceneObject> scene = solution_scene(assembly, result);
-  std::vector<SceneObject> parts = scene;
-  parts.resize(static_cast<std::size_t>(assembly.part_count()));
+  PartSolidCache local;
+  std::vector<SceneObject> scene = solution_scene(assembly, result);
+  use_solids(assembly, options.solids ? *options.solids : local, scene, diags);
+  const std::vector<SceneObject> parts(scene.begin(), scene.begin() + assembly.part_count());
   ok = write_scene("glb", scene, directory / "scene.glb", diags) && ok;
   ok = write_scene("svg", scene, directory / "preview.svg", diags) && ok;
   ok = write_scene("stl", parts, directory / (options.basename + ".stl"), diags) && ok;

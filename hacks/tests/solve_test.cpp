@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "../src/solve_internal.h"
+#include "fabkit/core/export_formats.h"
 #include "fabkit/core/mesh_io.h"
 #include "fabkit/hacks/solution_export.h"
 #include "test_support.h"
@@ -461,6 +462,7 @@ TEST(Solve, ExportsWriteEveryFile) {
   std::filesystem::remove_all(dir);
   Diagnostics d;
   ASSERT_TRUE(export_solution(s.design.assembly, s.result, dir, d)) << d.format();
+  EXPECT_TRUE(d.empty()) << d.format();  // every part of the demo is one solid
   for (const char* f :
        {"result.json", "scene.glb", "preview.svg", "assembly.stl", "assembly.obj"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
@@ -469,7 +471,10 @@ TEST(Solve, ExportsWriteEveryFile) {
   const auto stl = read_mesh(dir / "assembly.stl", rd);
   const auto obj = read_mesh(dir / "assembly.obj", rd);
   ASSERT_TRUE(stl && obj) << rd.format();
-  EXPECT_EQ(stl->faces.size(), solution_mesh(s.design.assembly, s.result).faces.size());
+  PartSolidCache solids;
+  Diagnostics sd;
+  EXPECT_EQ(stl->faces.size(),
+            merged_mesh(solid_scene(s.design.assembly, s.result, solids, sd)).faces.size());
   EXPECT_EQ(obj->faces.size(), stl->faces.size());
   // A file in the way of the output directory: a clear error, no stray files.
   const std::filesystem::path blocked = dir / "result.json" / "sub";

@@ -211,6 +211,26 @@ connections:
   expect_alive();
 }
 
+// Positions beyond 1 km or not finite are a unit mistake or garbage: refused like absurd
+// sizes, naming the part and the quantity, before anything is solved.
+TEST_F(ServerTest, AbsurdPositionsAreRefused) {
+  for (const auto& [pos, message] :
+       {std::pair<std::string, std::string>{"2e6", "rods pos 2e+06 mm is out of range"},
+        {".nan", "rods pos is .nan, not a finite number"},
+        {"-.inf", "rods pos is -.inf, not a finite number"}}) {
+    for (const char* route : {"/api/check", "/api/solve"}) {
+      const auto r = post(route,
+                          "fabkit: hacks/1\nenvironment:\n  - {name: rods, part: TowelRackRods, "
+                          "frame: {pos: [0, " +
+                              pos + ", 0], rot: [0, 0, 0]}}\n");
+      ASSERT_TRUE(r);
+      EXPECT_EQ(r->status, 400) << route << " " << pos;
+      EXPECT_NE(r->body.find(message), std::string::npos) << route << ": " << r->body;
+    }
+  }
+  expect_alive();
+}
+
 TEST_F(ServerTest, OversizedBodiesAndDesignsAreRefused) {
   const std::string huge(2 << 20, 'x');
   auto r = post("/api/check", huge);

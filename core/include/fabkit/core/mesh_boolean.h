@@ -47,6 +47,9 @@ struct SolidCheck {
 
 /// Checks a mesh as a solid (independent of how it was made).
 SolidCheck check_solid(const TriangleMesh& mesh);
+/// `mesh` as a file with float32 coordinates holds it (STL, 3MF, glTF): each vertex rounded
+/// to float, and vertices that round to the same point merged, as STL readers and slicers do.
+TriangleMesh rounded_to_float32(const TriangleMesh& mesh);
 /// Closed and manifold (watertight, every edge shared by exactly two faces).
 bool is_closed_manifold(const TriangleMesh& mesh);
 /// Whether two non-adjacent triangles intersect.
@@ -73,13 +76,25 @@ struct SolidInput {
   std::vector<PlacedPoints> hull;
 };
 
+/// How the result of an exact boolean is finished.
+struct BooleanOptions {
+  /// mm. 0: the exact result rounded to double, every sliver kept. Above 0: for files that
+  /// store float32 coordinates (STL, 3MF, glTF): edges shorter than this are collapsed and
+  /// triangles thinner than it flipped away (the slivers left where surfaces touch, are
+  /// tangent or nearly coincide), in exact arithmetic, and the result must stay a solid with
+  /// its coordinates rounded to float32 — else the boolean fails. 0.01 mm is far below what a
+  /// printer resolves and far above float32's spacing (0.24 µm at 2 m).
+  double min_feature_mm = 0;
+};
+
 /// (∪ `add`) \ (∪ `subtract`) of placed solids, exactly, rounded to double once. nullopt with
 /// a boolean-failed diagnostic naming `what` (and the operand) when an operand is not a
 /// closed manifold solid, a hull is flat, or the result is not a manifold.
 std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
                                          std::span<const SolidInput> subtract,
                                          std::string_view what,
-                                         Diagnostics& diags);
+                                         Diagnostics& diags,
+                                         const BooleanOptions& options = {});
 
 /// (∪ `add`) \ (∪ `subtract`), exactly, rounded once. `what` names the result in messages
 /// ("joint 07"). nullopt with a boolean-failed diagnostic when an input is not a closed
@@ -87,11 +102,13 @@ std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
 std::optional<TriangleMesh> mesh_boolean(std::span<const TriangleMesh> add,
                                          std::span<const TriangleMesh> subtract,
                                          std::string_view what,
-                                         Diagnostics& diags);
+                                         Diagnostics& diags,
+                                         const BooleanOptions& options = {});
 /// The union of `solids`.
 std::optional<TriangleMesh> mesh_union(std::span<const TriangleMesh> solids,
                                        std::string_view what,
-                                       Diagnostics& diags);
+                                       Diagnostics& diags,
+                                       const BooleanOptions& options = {});
 /// `solid` minus the union of `cutters`.
 std::optional<TriangleMesh> mesh_difference(const TriangleMesh& solid,
                                             std::span<const TriangleMesh> cutters,

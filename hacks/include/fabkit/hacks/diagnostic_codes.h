@@ -49,6 +49,9 @@ inline constexpr DiagnosticCode kNotAtRest{"not-at-rest", DiagnosticClass::kInfe
 inline constexpr DiagnosticCode kPartsOverlap{"parts-overlap", DiagnosticClass::kCheck};
 /// A connection slips off under gravity.
 inline constexpr DiagnosticCode kFallsApart{"falls-apart", DiagnosticClass::kFallsApart};
+/// A part could not be exported as one closed solid (a piece of its mesh is not closed, or the
+/// union failed); it is exported as its display mesh instead (a warning).
+inline constexpr DiagnosticCode kNotASolid{"not-a-solid", DiagnosticClass::kCheck};
 
 }  // namespace fabkit::hacks::codes
 
