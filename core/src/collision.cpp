@@ -89,7 +89,8 @@ void world_bounds(const Vec3& lo, const Vec3& hi, const Mat4& t, Vec3& out_lo, V
 
 }  // namespace
 
-double piece_gap_bound(const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb) {
+double piece_gap_bound(
+    const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb) {
   Vec3 alo, ahi, blo, bhi;
   world_bounds(a.piece_min(pa), a.piece_max(pa), ta, alo, ahi);
   world_bounds(b.piece_min(pb), b.piece_max(pb), tb, blo, bhi);
@@ -130,7 +131,8 @@ void centre(const void* obj, ccd_vec3_t* out) {
 
 }  // namespace
 
-Proximity piece_distance(const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb) {
+Proximity piece_distance(
+    const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb) {
   const Body::Pieces& A = *a.pieces_;
   const Body::Pieces& B = *b.pieces_;
   const auto ia = static_cast<std::size_t>(pa);
@@ -191,7 +193,8 @@ Proximity piece_distance(const Body& a, int pa, const Mat4& ta, const Body& b, i
     Mat4 moved = tb;
     moved.topRightCorner<3, 1>() += shift;
     fcl::DistanceResultd apart;
-    fcl::distance(A.shapes[ia].get(), to_fcl(ta), B.shapes[ib].get(), to_fcl(moved), request, apart);
+    fcl::distance(
+        A.shapes[ia].get(), to_fcl(ta), B.shapes[ib].get(), to_fcl(moved), request, apart);
     if (apart.min_distance > 1e-12) {
       p.distance = -depth;
       p.point_a = apart.nearest_points[0];

@@ -225,8 +225,12 @@ ConnectReport Assembly::add(const PrimitiveRef& primitive,
     // Drawn where the primitives are placed, and without those not placed yet (which take no
     // part in anything until they are): the pictures and files show the world as added.
     copy->mesh = TriangleMesh();
+    copy->collision_pieces.clear();
+    copy->collision_tags.clear();
     for (std::size_t i = 0; i < copy->primitives.size(); ++i) {
-      if (n.placed[i]) copy->mesh.append(primitive_mesh(copy->primitives[i]));
+      if (!n.placed[i]) continue;
+      copy->mesh.append(primitive_mesh(copy->primitives[i]));
+      add_primitive_pieces(*copy, static_cast<int>(i));
     }
   }
   n.part = std::move(copy);

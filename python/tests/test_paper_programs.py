@@ -38,9 +38,15 @@ def test_program_runs_under_fabkit_run(program, fabkit_cli):
 @pytest.mark.parametrize("program,example", sorted(CASES.items()))
 def test_program_matches_bundled_example(program, example, fabkit_cli, tmp_path):
     result = program_assembly(program).solve()
-    fabkit_cli("solve", SOURCE_DIR / "examples" / "hacks" / f"{example}.yaml", "-q", "-o", tmp_path)
+    # Not yet at rest once parts may not pass through each other (docs/gallery.md): the CLI
+    # says so (exit 3 or 7) and writes its result all the same; Python agrees with it.
+    not_yet_at_rest = example in ("paper_towel_holder", "diaper_caddy", "reading_nook")
+    p = fabkit_cli("solve", SOURCE_DIR / "examples" / "hacks" / f"{example}.yaml", "-q", "-o", tmp_path,
+                   check=not not_yet_at_rest)
+    if not_yet_at_rest:
+        assert p.returncode in (3, 7), p.stdout + p.stderr
     expected = json.loads((tmp_path / "result.json").read_text())
-    assert result.stable == expected["stable"] is True
+    assert result.stable == expected["stable"] is (not not_yet_at_rest)
     pos, rot = result.target_error
     assert pos == pytest.approx(expected["target"]["pos_error_mm"], abs=1e-3)
     assert rot == pytest.approx(expected["target"]["rot_error_deg"], abs=1e-3)

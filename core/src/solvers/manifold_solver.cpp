@@ -108,7 +108,8 @@ ManifoldSolver::Active ManifoldSolver::active_set(const Point& p) const {
   }
   const Eigen::VectorXd lambda = multipliers(p, off, act.rows);
   const Eigen::MatrixXd J = row_subset(p.J, act.rows);
-  const Eigen::VectorXd reduced = lambda.size() ? Eigen::VectorXd(p.g - J.transpose() * lambda) : p.g;
+  const Eigen::VectorXd reduced =
+      lambda.size() ? Eigen::VectorXd(p.g - J.transpose() * lambda) : p.g;
   for (int k = 0; k < n_; ++k) {
     const int side = at_bound(p.z, k);
     if (side == 0 || side * reduced[k] > options_.gradient_tolerance) act.free.push_back(k);

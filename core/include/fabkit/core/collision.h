@@ -30,7 +30,8 @@ struct Proximity {
 };
 
 class Body;
-Proximity piece_distance(const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
+Proximity piece_distance(
+    const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
 
 class Body {
  public:
@@ -59,10 +60,12 @@ class Body {
 };
 
 /// Signed distance between piece `pa` of `a` at world pose `ta` and piece `pb` of `b` at `tb`.
-Proximity piece_distance(const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
+Proximity piece_distance(
+    const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
 
 /// A lower bound of the distance between the two pieces from their world-aligned bounding
 /// boxes (0 when the boxes overlap): pairs farther apart than a cut-off need no exact query.
-double piece_gap_bound(const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
+double piece_gap_bound(
+    const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
 
 }  // namespace fabkit::collision
