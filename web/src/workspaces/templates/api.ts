@@ -23,8 +23,9 @@ export interface Candidate { source: string; transferred: boolean; feasible: boo
 export interface LinkData { added: string; existing: string; connected: boolean; message: string; tried: Candidate[] }
 export interface StepData { text: string; line: number; ok: boolean; outcome: string; snap?: { snapped: boolean; planes: number; combinations: number }; links?: LinkData[]; all_connected?: boolean }
 export interface ConnectionData { name: string; principal: string[]; connecting: string[]; source: string }
-export interface ModelState { parts: PartData[]; nodes: NodeData[]; stability: Stability; max_violation: number; bom?: Bom }
+export interface ModelState { parts: PartData[]; nodes: NodeData[]; stability: Stability | null; max_violation: number; bom?: Bom }
 export interface Composed extends ModelState {
+  stability: Stability;
   name: string; steps: StepData[]; compositions: { name: string; source: string; node: string }[];
   connections: ConnectionData[]; bom: Bom; verdict: string; diagnostics: Diagnostic[];
   compose_milliseconds: number; milliseconds: number;
@@ -45,8 +46,9 @@ export function templatesApi(c: KitClient) {
       c.get(`library/${encodeURIComponent(design)}/mesh`, node ? { node } : undefined),
     compose: (yaml: string, signal?: AbortSignal): Promise<Composed> => c.post('compose', yaml, undefined, signal),
     controls: (model: string, node: string): Promise<Controls> => c.post('controls', { model, node }),
-    drag: (model: string, node: string, control: string, delta: number, bom = false): Promise<DragAnswer> =>
-      c.post('drag', { model, node, control, delta, bom }),
+    /** One drag step; `stability: false` skips the contact-force check (slow under loads). */
+    drag: (model: string, node: string, control: string, delta: number, opts: { bom?: boolean; stability?: boolean } = {}): Promise<DragAnswer> =>
+      c.post('drag', { model, node, control, delta, bom: !!opts.bom, stability: opts.stability ?? true }),
     build: (yaml: string): Promise<BuildAnswer> => c.post('build', yaml),
   };
 }

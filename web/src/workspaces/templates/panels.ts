@@ -140,7 +140,8 @@ export class Panels {
   /** During a drag: the step's outcome, stability and (if sent) the bill, without a compose. */
   renderLive(a: DragAnswer): void {
     this.live.textContent = `${a.control} ${mm(a.start)} → ${mm(a.achieved)} mm (asked ${mm(a.requested)})${a.message ? ` — ${a.message}` : ''}; constraints hold to ${a.max_violation.toExponential(1)} mm; QP ${a.qp_milliseconds.toFixed(1)} ms`;
-    this.renderStability(a);
+    if (a.stability) this.renderStability(a);
+    else this.live.textContent += '; stability under the loads is checked when you let go';
   }
 
   private renderTree(): void {
@@ -264,7 +265,7 @@ export class Panels {
   private renderStability(v: ModelState | null): void {
     const w = this.w;
     this.stability.innerHTML = '';
-    if (!v) return;
+    if (!v || !v.stability) return;
     const s = v.stability;
     const unstable = s.bodies.filter((b) => !b.stable);
     this.stability.append(el('p', { 'data-testid': 'stability-verdict', class: s.stable ? 'ok' : 'error' },

@@ -100,7 +100,7 @@ export class TemplatesWorkspace implements MountedWorkspace {
     this.hooks = {
       modelYaml: () => modelToYaml(this.model),
       composed: () => this.composed,
-      view: () => this.view && { max_violation: this.view.max_violation, stable: this.view.stability.stable, parts: this.view.parts.length },
+      view: () => this.view && { max_violation: this.view.max_violation, stable: this.view.stability?.stable ?? null, parts: this.view.parts.length },
       selectedNode: () => this.selectedPath(),
       controls: () => this.controls,
       /** Client coordinates of a handle ("size_z", "center_x") of the selected node. */
@@ -460,6 +460,8 @@ export class TemplatesWorkspace implements MountedWorkspace {
     window.addEventListener('pointermove', move, true);
     window.addEventListener('pointerup', up, true);
     this.ctx.status(`dragging ${handle.control} of ${this.gesture.node || 'the model'}…`);
+    // shadows are redrawn when the drag is let go: the shadow pass doubles a frame's cost
+    scene.renderer.shadowMap.autoUpdate = false;
     // counted as busy until the gesture is committed
     void this.ctx.track(new Promise<void>((resolve) => { this.gestureDone = resolve; }));
   }
@@ -473,8 +475,14 @@ export class TemplatesWorkspace implements MountedWorkspace {
       const delta = g.delta;
       g.inFlight = true; g.sent = delta;
       const t0 = performance.now();
-      this.api.drag(g.yaml, g.node, g.handle.control, delta).then(async (a) => {
+      // Under loads the contact-force check takes ~100 ms: it runs when the drag is let go.
+      const stability = !this.model.loads.length;
+      this.api.drag(g.yaml, g.node, g.handle.control, delta, { stability }).then(async (a) => {
         const received = performance.now();
+        if (!a.stability && this.composed) {
+          const was = new Map(this.composed.parts.map((p) => [p.name, p.stable]));
+          for (const p of a.parts) p.stable = was.get(p.name) ?? true;
+        }
         g.last = a; this.lastDrag = a;
         this.view = a;
         this.draw();
@@ -494,6 +502,8 @@ export class TemplatesWorkspace implements MountedWorkspace {
 
   private commit(g: Gesture): void {
     this.gesture = null;
+    this.ctx.scene.renderer.shadowMap.autoUpdate = true;
+    this.ctx.scene.renderer.shadowMap.needsUpdate = true;
     this.ctx.status('');
     const resolve = this.gestureDone; this.gestureDone = null;
     const a = g.last;
