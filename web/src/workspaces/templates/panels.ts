@@ -220,10 +220,10 @@ export class Panels {
     for (const k of c.connections) ul.append(el('li', {}, `${k.principal.join(' + ')}: ${k.connecting.join(', ') || '—'} (${k.source})`));
     conns.append(ul);
     this.steps.append(conns);
-    const errors = c.diagnostics.filter((d) => d.severity === 'error');
-    if (errors.length) {
+    const shown = c.diagnostics.filter((d) => d.severity === 'error' || d.severity === 'warning');
+    if (shown.length) {
       const box = el('ul', { class: 'diags', 'data-testid': 'model-diagnostics' });
-      for (const d of errors) box.append(el('li', { class: 'error' }, d.text || d.message));
+      for (const d of shown) box.append(el('li', { class: d.severity === 'error' ? 'error' : 'hint' }, d.text || d.message));
       this.steps.append(box);
     }
   }
