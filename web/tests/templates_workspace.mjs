@@ -347,6 +347,18 @@ try {
     const t = await hook(p2, 'dragTimings');
     reportDrag('withLoad', 'table with shelf and a 300 N load', t);
     assert(t.length >= 2, 'too few drag steps');
+    const width = () => hook(p2, 'modelYaml').then((y) => Number((y.match(/node: table, control: size_x, to: ([\d.]+)/) ?? [])[1]));
+    const w1 = await width();
+    assert(w1 > 1600, `the x sphere did not widen the table: ${w1}`);
+    // the sphere on the opposite face, pulled outward (to -x), widens it too
+    const q = await hook(p2, 'handlePoint', 'size_x', -1);
+    assert(q, 'no size_x sphere on the min face');
+    await p2.mouse.move(q.x, q.y); await p2.mouse.down();
+    for (let i = 1; i <= 6; ++i) { await p2.mouse.move(q.x - i * 6, q.y + i * 3); await p2.waitForTimeout(60); }
+    await p2.mouse.up(); await idle(p2);
+    const w2 = await width();
+    assert(w2 > w1, `pulling the min-face sphere outward: ${w1} → ${w2}`);
+    assert((await composed(p2)).max_violation < 1e-6, 'constraints after the second drag');
     await p2.close();
   });
 

@@ -38,7 +38,8 @@ export function describeError(e: unknown): string {
   return (e as Error).message ?? String(e);
 }
 
-interface Handle { mesh: THREE.Mesh; control: string; axis: number; size: boolean; point: THREE.Vector3 }
+/** A handle; `sign` −1 for the sphere on a box's min face (dragging it outward grows the box). */
+interface Handle { mesh: THREE.Mesh; control: string; axis: number; size: boolean; point: THREE.Vector3; sign: number }
 interface Gesture {
   handle: Handle; node: string; startX: number; startY: number; dirPx: THREE.Vector2; pxPerMm: number;
   delta: number; sent: number | null; inFlight: boolean; last: DragAnswer | null; done: boolean; yaml: string;
@@ -104,8 +105,8 @@ export class TemplatesWorkspace implements MountedWorkspace {
       selectedNode: () => this.selectedPath(),
       controls: () => this.controls,
       /** Client coordinates of a handle ("size_z", "center_x") of the selected node. */
-      handlePoint: (control: string) => this.handlePoint(control),
-      handleControls: () => this.handles.map((h) => h.control),
+      handlePoint: (control: string, side?: number) => this.handlePoint(control, side),
+      handleControls: () => [...new Set(this.handles.map((h) => h.control))],
       dragTimings: () => this.dragTimings,
       lastDrag: () => this.lastDrag && { achieved: this.lastDrag.achieved, start: this.lastDrag.start, requested: this.lastDrag.requested, message: this.lastDrag.message, max_violation: this.lastDrag.max_violation },
       /** How every part is drawn: colour, see-through, red (unstable). */
@@ -391,6 +392,14 @@ export class TemplatesWorkspace implements MountedWorkspace {
         point = face.clone();
         mesh = new THREE.Mesh(new THREE.SphereGeometry(scale * 0.8, 20, 14), mat);
         mesh.position.copy(point);
+        // a second sphere on the opposite face (paper Fig. 7: both sides can be pulled)
+        const minFace = center.clone().addScaledVector(axis, -size.getComponent(ctl.axis) / 2);
+        const other = new THREE.Mesh(mesh.geometry, mat);
+        other.position.copy(minFace);
+        other.renderOrder = 10;
+        other.userData.handle = ctl.control;
+        layer.add(other);
+        this.handles.push({ mesh: other, control: ctl.control, axis: ctl.axis, size: true, point: minFace, sign: -1 });
       } else {
         point = face.clone().addScaledVector(axis, scale * 3.2);
         const g = new THREE.ConeGeometry(scale * 0.7, scale * 2, 16);
@@ -406,13 +415,14 @@ export class TemplatesWorkspace implements MountedWorkspace {
       mesh.renderOrder = 10;
       mesh.userData.handle = ctl.control;
       layer.add(mesh);
-      this.handles.push({ mesh, control: ctl.control, axis: ctl.axis, size: ctl.size, point });
+      this.handles.push({ mesh, control: ctl.control, axis: ctl.axis, size: ctl.size, point, sign: 1 });
     }
     scene.render();
   }
 
-  handlePoint(control: string): { x: number; y: number } | null {
-    const h = this.handles.find((x) => x.control === control);
+  /** Where a handle is on the screen (`side` −1: a size's sphere on the min face). */
+  handlePoint(control: string, side = 1): { x: number; y: number } | null {
+    const h = this.handles.find((x) => x.control === control && x.sign === side);
     if (!h) return null;
     const r = this.ctx.scene.renderer.domElement.getBoundingClientRect();
     const v = h.mesh.getWorldPosition(new THREE.Vector3()).project(this.ctx.scene.camera);
@@ -448,7 +458,7 @@ export class TemplatesWorkspace implements MountedWorkspace {
       const g = this.gesture; if (!g) return;
       ev.stopPropagation(); // the view's hover highlighting would redraw the scene on every move
       const d = new THREE.Vector2(ev.clientX - g.startX, ev.clientY - g.startY);
-      g.delta = Math.round((d.dot(g.dirPx) / g.pxPerMm) * 10) / 10;
+      g.delta = g.handle.sign * Math.round((d.dot(g.dirPx) / g.pxPerMm) * 10) / 10;
       this.pump();
     };
     const up = (ev: PointerEvent) => {
