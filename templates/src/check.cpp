@@ -182,6 +182,33 @@ ComposedModel compose_model(std::string_view yaml,
     report.outcome = outcome.empty() ? fmt::format("{} parts", part->part_count()) : outcome;
     cm.steps.push_back(std::move(report));
   }
+  for (const Removal& r : file_model->remove) {
+    const Template& t = cm.model.model();
+    const NodeId n = t.find_node_or_element(r.node);
+    if (!n.valid() || n == t.root()) {
+      std::vector<std::string> names;
+      for (std::size_t i = 1; i < t.nodes.size(); ++i)
+        names.push_back(t.path(NodeId(static_cast<int>(i))));
+      cm.diagnostics.error(codes::kUnknownName,
+                           n.valid() ? std::string("the model's root cannot be removed")
+                                     : fmt::format("the model has no node '{}' to remove{}",
+                                                   r.node,
+                                                   did_you_mean(r.node, names)),
+                           r.where);
+      continue;
+    }
+    StepReport report;
+    report.where = r.where;
+    report.text = fmt::format("remove {}", r.node);
+    const int before = t.part_count();
+    Diagnostics removed;
+    report.ok = cm.model.remove(t.path(n), removed);
+    append_at(cm.diagnostics, removed, r.where);
+    report.outcome = report.ok ? fmt::format("{} parts removed (with their connections)",
+                                             before - cm.model.model().part_count())
+                               : "not removed";
+    cm.steps.push_back(std::move(report));
+  }
   for (const Adjustment& a : file_model->adjust) {
     const Template& t = cm.model.model();
     const NodeId n = t.find_node_or_element(a.node);

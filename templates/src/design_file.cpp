@@ -324,8 +324,9 @@ std::optional<ModelFile> read_model_file(std::string_view yaml,
   auto root_opt = header(in, yaml);
   if (!root_opt) return std::nullopt;
   const YAML::Node root = *root_opt;
-  in.check_keys(
-      root, {"fabkit", "name", "description", "model", "adjust", "loads", "friction"}, "a model");
+  in.check_keys(root,
+                {"fabkit", "name", "description", "model", "remove", "adjust", "loads", "friction"},
+                "a model");
   ModelFile m;
   m.file = std::string(file);
   if (root["name"]) m.name = in.string(root["name"], "name").value_or("");
@@ -372,6 +373,14 @@ std::optional<ModelFile> read_model_file(std::string_view yaml,
     if (s["snap"]) step.snap = in.boolean(s["snap"], "snap").value_or(true);
     if (s["connect"]) step.connect = in.boolean(s["connect"], "connect").value_or(true);
     m.steps.push_back(std::move(step));
+  }
+  if (root["remove"] && in.is_list(root["remove"], "remove")) {
+    for (const YAML::Node& r : root["remove"]) {
+      Removal removal;
+      removal.where = in.at(r);
+      removal.node = in.string(r, "remove", 256).value_or("");
+      if (!removal.node.empty()) m.remove.push_back(std::move(removal));
+    }
   }
   if (root["adjust"] && in.is_list(root["adjust"], "adjust")) {
     for (const YAML::Node& a : root["adjust"]) {

@@ -139,6 +139,43 @@ TEST(ModelFile, BadModelsNameLineAndValue) {
   EXPECT_EQ(line_of(d, codes::kDuplicateName), 4);
 }
 
+// `remove:` deletes a node after composition (paper §4.3): the leg's brackets and screws go with
+// it; on three legs the table still stands at rest (a tripod), but someone leaning on the corner
+// above the missing leg (300 N) tips it.
+TEST(ModelFile, RemovingALegMakesTheTableTip) {
+  const std::string base = std::string(kHeader) +
+                           "model:\n  - {use: dining_table, as: table}\n"
+                           "loads:\n  - {part: top, at: [-780, -430, 750], force: [0, 0, -300]}\n";
+  const ComposedModel whole = compose_model(base, "m.yaml", TemplateDatabase::bundled());
+  const ComposedModel three_legs =
+      compose_model(base + "remove: [leg_fl]\n", "m.yaml", TemplateDatabase::bundled());
+  ASSERT_TRUE(whole.readable) << whole.diagnostics.format();
+  ASSERT_TRUE(three_legs.readable) << three_legs.diagnostics.format();
+  const Template& t = three_legs.model.model();
+  EXPECT_FALSE(t.find_node_or_element("leg_fl").valid());
+  // One 4x4 leg, plus the connectors that held it (two L-brackets with four screws each).
+  EXPECT_GE(whole.model.model().part_count() - t.part_count(), 1 + 2 * 5);
+  EXPECT_EQ(three_legs.steps.back().text, "remove leg_fl");
+  EXPECT_EQ(t.max_violation(), t.max_violation());  // finite
+  EXPECT_LT(t.max_violation(), 1e-6);
+  const CheckResult ok = check(whole, TemplateDatabase::bundled());
+  const CheckResult tips = check(three_legs, TemplateDatabase::bundled());
+  EXPECT_TRUE(ok.stability.stable) << ok.diagnostics.format();
+  EXPECT_FALSE(tips.stability.stable);
+  EXPECT_EQ(tips.verdict, "unstable");
+  const ComposedModel at_rest = compose_model(std::string(kHeader) +
+                                                  "model:\n  - {use: dining_table, as: table}\n"
+                                                  "remove: [leg_fl]\n",
+                                              "m.yaml",
+                                              TemplateDatabase::bundled());
+  EXPECT_TRUE(check(at_rest, TemplateDatabase::bundled()).stability.stable);
+
+  const ComposedModel bad =
+      compose_model(base + "remove: [leg_xx]\n", "m.yaml", TemplateDatabase::bundled());
+  EXPECT_TRUE(has_diagnostic(bad.diagnostics, codes::kUnknownName, "no node 'leg_xx' to remove"));
+  EXPECT_EQ(line_of(bad.diagnostics, codes::kUnknownName), 6);
+}
+
 TEST(ModelFile, ComposingReportsUnknownTemplatesNodesAndParts) {
   const ComposedModel cm = compose_model(std::string(kHeader) +
                                              "model:\n"

@@ -28,6 +28,7 @@
 ///   model:
 ///     - {use: coffee_table, as: table, set: {size_x: 1100}}
 ///     - {use: bookshelf/shelf_2, as: shelf, at: [0, 0, 60]}      # snapped, then connected
+///   remove: [table/base/legs/leg_fl]                              # after composing
 ///   adjust:
 ///     - {node: table, control: size_z, to: 480}
 ///   loads:
@@ -72,6 +73,13 @@ struct Adjustment {
   SourceLocation where;
 };
 
+/// A node removed after composition (paper §4.3: deleting a part removes its elements and every
+/// relation and connection that involves them).
+struct Removal {
+  std::string node;  ///< a node of the model ("table/base/legs/leg_fl", "leg_fl", "shelf")
+  SourceLocation where;
+};
+
 /// A force on a part for the stability check.
 struct LoadSpec {
   std::string part;           ///< element name
@@ -84,6 +92,7 @@ struct ModelFile {
   std::string name;
   std::string description;
   std::vector<ModelStep> steps;
+  std::vector<Removal> remove;  ///< applied after the steps, before `adjust`
   std::vector<Adjustment> adjust;
   std::vector<LoadSpec> loads;
   double friction = 0.5;  ///< Coulomb coefficient for every contact
