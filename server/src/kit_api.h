@@ -48,6 +48,8 @@ struct KitApi {
 
 /// The hacks kit's routes (server/src/hacks_api.cpp).
 KitApi hacks_api(const ApiContext& context);
+/// The flatpack kit's routes (server/src/flatpack_api.cpp).
+KitApi flatpack_api(const ApiContext& context);
 
 // ---- answering ------------------------------------------------------------------------------
 
