@@ -173,7 +173,11 @@ try {
     await addComponent(page, 'Rectangle', 'B', { l: 30, w: 60 });
     let a = await asm(page);
     assert(a.pieces.length === 2 && a.joints.length === 0, `two loose rectangles: ${a.pieces.length} pieces, ${a.joints.length} joints`);
-    await connectByClicking(page, 'A.t', 'B.b');
+    await clickEdge(page, 'A.t');
+    assert((await page.getByTestId('pick-label').textContent()).includes('A.t picked'), 'A.t not picked');
+    assert((await page.evaluate(() => window.__fabkit.styleOf('A.b'))).outlineWidth === 0, 'the picked component\'s other edges are not dimmed');
+    await shot(page, 'picked-edge');
+    await clickEdge(page, 'B.b');
     a = await asm(page);
     const ref = await postAssemble(path.join(examples, 'bookend.yaml'));
     assert(a.placed && a.joints.length === 1 && a.joints[0].kind === 'finger-finger' && !a.joints[0].automatic, `Fig. 3 joint: ${JSON.stringify(a.joints)}`);
@@ -386,7 +390,7 @@ print(json.dumps({"insunits": doc.header.get('$INSUNITS'), "boxes": boxes, "text
     await table.mouse.move(0, 0);
     await table.getByTestId('component-top').click();
     await idle(table);
-    await table.evaluate(() => window.__fabkit.setCamera([700, -800, 500], [0, 0, 75]));
+    await table.evaluate(() => { window.__fabkit.setCamera([700, -800, 500], [0, 0, 75]); document.getElementById('view-all').click(); });
     const png = await canvasPng(table);
     if (process.env.FABKIT_UPDATE_GOLDEN === '1') { writeFileSync(golden, png); console.log(`  wrote ${golden}`); return; }
     assert(existsSync(golden), `missing ${golden} (run with FABKIT_UPDATE_GOLDEN=1 to create it)`);

@@ -386,7 +386,7 @@ export class FlatpackWorkspace implements MountedWorkspace {
     }
     // Warnings and residuals beside the piece they concern.
     const notes = new Map<string, string[]>();
-    for (const d of asm.diagnostics) for (const p of d.pieces) notes.set(p, [...(notes.get(p) ?? []), `${d.severity === 'error' ? '✖' : '⚠'} ${d.message}`]);
+    for (const d of asm.diagnostics) for (const p of d.pieces) notes.set(p, [...(notes.get(p) ?? []), `${d.severity === 'error' ? '✖' : d.severity === 'note' ? 'ℹ' : '⚠'} ${d.message}`]);
     for (const r of asm.residuals) if (!r.closes) notes.set(r.piece, [...(notes.get(r.piece) ?? []), `✖ ${r.name} misses by ${r.position_mm.toFixed(2)} mm, ${r.angle_deg.toFixed(2)}°`]);
     for (const [piece, lines] of notes) {
       const at = this.anchorOf(piece); if (!at) continue;
