@@ -8,6 +8,7 @@
 #include "fabkit/flatpack/check.h"
 #include "fabkit/flatpack/component.h"
 #include "fabkit/flatpack/design_file.h"
+#include "fabkit/flatpack/diagnostic_codes.h"
 #include "fabkit/core/file_io.h"
 // clang-format on
 
@@ -92,7 +93,11 @@ json concerns(const Diagnostic& d,
       names.insert(piece_of.at(token.substr(0, dot)));
     token.clear();
   };
-  for (char c : d.message) {
+  // "not connected to A: B, C" concerns the stray ones, not the first component.
+  std::string_view text = d.message;
+  if (d.code == flatpack::codes::kNotConnected && text.find(": ") != std::string_view::npos)
+    text = text.substr(text.find(": ") + 2);
+  for (char c : text) {
     if (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.') {
       token += c;
     } else {

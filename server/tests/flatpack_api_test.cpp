@@ -111,6 +111,8 @@ TEST_F(FlatpackApiTest, WarningsNameThePiecesTheyConcernAndResidualsAreNumbers) 
   EXPECT_EQ(a["pieces"].size(), 2u);
   ASSERT_EQ(a["diagnostics"].size(), 1u);
   EXPECT_EQ(a["diagnostics"][0]["code"], "not-connected");
+  EXPECT_EQ(a["diagnostics"][0]["pieces"],
+            json::array({"B"}));  // not A, the one B is not connected to
   EXPECT_NE(
       std::find(a["diagnostics"][0]["pieces"].begin(), a["diagnostics"][0]["pieces"].end(), "B"),
       a["diagnostics"][0]["pieces"].end());

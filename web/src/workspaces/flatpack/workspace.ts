@@ -60,7 +60,8 @@ export class FlatpackWorkspace implements MountedWorkspace {
     ];
     for (const [text, id, title] of files) ctx.toolbarButton('file', text, id, title, () => void ctx.track(this.downloadKind(id.slice(9))));
     this.offs.push(ctx.history.onChange((_d, label) => {
-      if (label.startsWith('open') || label.startsWith('new')) this.framed = false;
+      // a new design, or a new component (laid beside the others, maybe out of view): frame all
+      if (label.startsWith('open') || label.startsWith('new') || label.startsWith('add ')) this.framed = false;
       this.cancelPick();
       void ctx.track(this.refresh(performance.now()));
     }));
