@@ -173,6 +173,10 @@ try {
     await addComponent(page, 'Rectangle', 'B', { l: 30, w: 60 });
     let a = await asm(page);
     assert(a.pieces.length === 2 && a.joints.length === 0, `two loose rectangles: ${a.pieces.length} pieces, ${a.joints.length} joints`);
+    // Esc drops a picked edge
+    await clickEdge(page, 'A.r');
+    await page.keyboard.press('Escape');
+    assert((await page.getByTestId('pick-label').textContent()) === '' && (await page.evaluate(() => window.__fabkit.pick())) === null, 'Esc did not cancel the pick');
     await clickEdge(page, 'A.t');
     assert((await page.getByTestId('pick-label').textContent()).includes('A.t picked'), 'A.t not picked');
     assert((await page.evaluate(() => window.__fabkit.styleOf('A.b'))).outlineWidth === 0, 'the picked component\'s other edges are not dimmed');
@@ -199,6 +203,16 @@ try {
     a = await asm(page);
     assert(a.pieces.length === 2 && a.joints.length === 1, 'undo did not bring the joint back');
     await shot(page, 'fig3');
+    // the Delete key deletes the selected component and its connection, as one undoable step
+    const before = await yamlOf(page);
+    await page.getByTestId('component-B').click();
+    await page.mouse.move(0, 0);
+    await page.locator('body').press('Delete');
+    await idle(page);
+    a = await asm(page);
+    assert(a.components.length === 1 && !(await yamlOf(page)).includes('connect:'), `after Delete: ${await yamlOf(page)}`);
+    await click(page, 'undo');
+    assert((await yamlOf(page)) === before, 'undo of Delete differs');
     await page.close();
   });
 
