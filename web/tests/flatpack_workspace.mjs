@@ -195,6 +195,13 @@ try {
     assert((await page.locator('[data-testid^="sheet-piece-"]').count()) === 2, 'sheet does not show both pieces');
     const labels = await page.getByTestId('sheet-label').allTextContents();
     assert(labels.includes('A') && labels.includes('B'), `sheet labels ${labels}`);
+    // the edges of the selected component are buttons too: picking by keyboard, like clicking in the view
+    await page.getByTestId('component-A').click();
+    await page.getByTestId('edge-A-l').focus();
+    await page.keyboard.press('Enter');
+    await idle(page);
+    assert((await page.evaluate(() => window.__fabkit.pick())) === 'A.l', 'edge button did not pick A.l');
+    await page.keyboard.press('Escape');
     // the 5-tuple's rotation as a field: 0° lays A beside B in B's plane, so the two merge into one piece
     await setField(page, 'conn-0-rotation-x', 0);
     a = await asm(page);

@@ -157,6 +157,20 @@ export class Panels {
         (v) => ws.setComponentParam(c.name, p.name, v, true),
         (v) => ws.setComponentParam(c.name, p.name, v)));
     }
+    // Its edges: the same as clicking them in the view (keyboard access, small edges).
+    if (info?.edges.length) {
+      const row = el('div', { class: 'fp-row fp-edges', title: 'Pick an edge to connect (like clicking it in the view): first the edge that moves, then the edge to lay it on' }, el('span', { class: 'fp-label' }, 'edges'));
+      for (const e of info.edges) {
+        const key = `${c.name}.${e.name}`;
+        const len = Math.hypot(e.end[0] - e.start[0], e.end[1] - e.start[1], e.end[2] - e.start[2]);
+        const b = el('button', { 'data-testid': `edge-${c.name}-${e.name}`, class: ws.pick === key ? 'on' : '', title: `${key}, ${fmt(len)} mm` }, e.name);
+        b.addEventListener('click', () => ws.pickEdge(key));
+        b.addEventListener('pointerenter', () => { ws.ctx.scene.setHover(key); });
+        b.addEventListener('pointerleave', () => { ws.ctx.scene.setHover(null); });
+        row.append(b);
+      }
+      ed.append(row);
+    }
     // Material of this piece: the design's or one of its named materials.
     const sel = el('select', { 'data-testid': `component-${c.name}-material`, title: 'The board this component is cut from' }) as HTMLSelectElement;
     sel.append(el('option', { value: '' }, `design's (${d.material.name}, ${d.material.thickness} mm)`));

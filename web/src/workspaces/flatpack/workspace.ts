@@ -76,7 +76,7 @@ export class FlatpackWorkspace implements MountedWorkspace {
       { color: 0xff9800, label: 'selected / picked' },
     ]);
     ctx.scene.onPick = (piece, object) => this.onPick(piece, object);
-    ctx.scene.onHover = (key) => this.panels.hover(key);
+    ctx.scene.onHover = (key, x, y) => { this.panels.hover(key); this.tooltip(key, x, y); };
     this.hooks = {
       designYaml: () => designToYaml(this.design),
       assembly: () => this.asm,
@@ -446,6 +446,22 @@ export class FlatpackWorkspace implements MountedWorkspace {
       scene.setState(key, { picked: key === this.pick, selected: key === sel.piece && !this.pick, dim: !!pickComp && comp === pickComp && key !== this.pick });
     }
     scene.restyle();
+  }
+
+  /** The tooltip over an edge in the view: which edge, how long, what a click does. */
+  private tooltip(key: string | null, x: number, y: number): void {
+    const tip = document.getElementById('tooltip'); if (!tip) return;
+    const c = key ? this.placed(splitRef(key)[0]) : undefined;
+    const e = c?.edges.find((x) => x.name === splitRef(key!)[1]);
+    if (!key || !e) { tip.hidden = true; return; }
+    const len = Math.hypot(e.end[0] - e.start[0], e.end[1] - e.start[1], e.end[2] - e.start[2]);
+    const what = !this.pick ? 'click: pick it (it moves onto the next edge you click)'
+      : this.pick === key ? 'picked — click again to drop it'
+        : splitRef(this.pick)[0] === splitRef(key)[0] ? `an edge of ${splitRef(key)[0]} too: pick another component's edge`
+          : `click: lay ${this.pick} on it`;
+    tip.textContent = `edge ${key}, ${len.toFixed(1)} mm — ${what}`;
+    tip.hidden = false;
+    tip.style.left = `${x + 14}px`; tip.style.top = `${y + 14}px`;
   }
 
   // ---------------------------------------------------------------- downloads
