@@ -238,6 +238,7 @@ Analysis check(const Design& design, const CheckOptions& options) {
     }
   }
   for (PlacedComponent& c : a.components) c.frame(2, 3) -= min_z;
+  for (CycleResidual& r : a.residuals) r.frame(2, 3) -= min_z;
   a.placed = true;
   clock.lap("place");
 

@@ -126,7 +126,8 @@ void place(std::vector<PlacedComponent>& components,
                                   components[static_cast<std::size_t>(other)].name,
                                   position,
                                   angle,
-                                  closes});
+                                  closes,
+                                  predicted});
           }
           if (!closes) {
             // The cycle: this connection and the tree paths of its two ends.

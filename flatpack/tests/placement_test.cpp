@@ -68,6 +68,13 @@ TEST(Placement, ACycleThatDoesNotCloseIsReportedWithItsResidual) {
   EXPECT_FALSE(a.residuals[0].closes);
   EXPECT_NEAR(a.residuals[0].position_mm, std::sqrt(60.0 * 60 + 30 * 30 + 5 * 5), 1e-9);
   EXPECT_NEAR(a.residuals[0].angle_deg, 0, 1e-9);
+  // c2 would put C unturned with its corner at (60, 0, 0); C is where "closing" put it, its
+  // bottom edge on A's top edge: corner at (0, 30), 5 mm up.
+  const Mat4& by_c2 = a.residuals[0].frame;
+  EXPECT_LT((by_c2.topLeftCorner<3, 3>() - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+  EXPECT_LT((by_c2.topRightCorner<3, 1>() - Vec3(60, 0, 0)).norm(), 1e-9) << by_c2;
+  EXPECT_LT((a.components[2].frame.topRightCorner<3, 1>() - Vec3(0, 30, 5)).norm(), 1e-9)
+      << a.components[2].frame;
 }
 
 // Unconnected components sit at the origin and, being coplanar, merge into one piece; with

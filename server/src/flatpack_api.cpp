@@ -55,6 +55,14 @@ json material_json(const Material& m) {
           {"interference", m.interference_mm}};
 }
 
+// Column-major, as three.js's Matrix4.fromArray reads it.
+json matrix_json(const Mat4& m) {
+  json out = json::array();
+  for (int col = 0; col < 4; ++col)
+    for (int row = 0; row < 4; ++row) out.push_back(r4(m(row, col)));
+  return out;
+}
+
 json ring_json(const Ring& ring) {
   json out = json::array();
   for (const Vec2& p : ring) out.push_back(json::array({r4(p.x()), r4(p.y())}));
@@ -84,6 +92,16 @@ json concerns(const Diagnostic& d,
               const Analysis& a,
               const std::map<std::string, std::string>& piece_of) {
   std::set<std::string> names;
+  // A cycle that does not close concerns the component its two placements disagree on.
+  if (d.code == flatpack::codes::kCycleMismatch) {
+    for (const CycleResidual& r : a.residuals) {
+      const auto k = static_cast<std::size_t>(r.connection);
+      if (!r.closes && k < design.connections.size() &&
+          design.connections[k].where.line == d.where.line && piece_of.count(r.component))
+        names.insert(piece_of.at(r.component));
+    }
+    if (!names.empty()) return json(std::vector<std::string>(names.begin(), names.end()));
+  }
   std::string token;
   auto flush = [&] {
     if (piece_of.count(token)) names.insert(piece_of.at(token));
@@ -116,7 +134,6 @@ json concerns(const Diagnostic& d,
       }
     }
   }
-  (void)a;
   return json(std::vector<std::string>(names.begin(), names.end()));
 }
 
@@ -159,9 +176,7 @@ json assemble_json(const Design& design,
     }
     json vals = json::object();
     for (const auto& [k, v] : c.values) vals[k] = r4(v);
-    json frame = json::array();  // column-major, as three.js's Matrix4.fromArray reads it
-    for (int col = 0; col < 4; ++col)
-      for (int row = 0; row < 4; ++row) frame.push_back(r4(c.frame(row, col)));
+    const json frame = matrix_json(c.frame);
     components.push_back({{"name", c.name},
                           {"type", c.type},
                           {"frame", frame},
@@ -230,7 +245,8 @@ json assemble_json(const Design& design,
          {"piece", piece_of.count(r.component) ? piece_of.at(r.component) : r.component},
          {"position_mm", r4(r.position_mm)},
          {"angle_deg", r4(r.angle_deg)},
-         {"closes", r.closes}});
+         {"closes", r.closes},
+         {"frame", matrix_json(r.frame)}});
   }
   out["residuals"] = residuals;
   json order = json::array();

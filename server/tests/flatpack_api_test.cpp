@@ -129,6 +129,9 @@ TEST_F(FlatpackApiTest, WarningsNameThePiecesTheyConcernAndResidualsAreNumbers) 
   ASSERT_EQ(a["residuals"].size(), 1u);
   EXPECT_NEAR(a["residuals"][0]["position_mm"].get<double>(), std::sqrt(4525.0), 1e-3);
   EXPECT_EQ(a["residuals"][0]["piece"], "C");
+  ASSERT_EQ(a["diagnostics"].size(), 1u);
+  EXPECT_EQ(a["diagnostics"][0]["code"], "cycle-mismatch");
+  EXPECT_EQ(a["diagnostics"][0]["pieces"], json::array({"C"}));  // not B, also named in it
   EXPECT_FALSE(a["residuals"][0]["closes"].get<bool>());
 }
 

@@ -402,6 +402,10 @@ print(json.dumps({"insunits": doc.header.get('$INSUNITS'), "boxes": boxes, "text
     assert(await p.getByTestId('residual-c2').isVisible(), 'residual not listed');
     assert((await p.getByTestId('connection-1-residual').textContent()).includes('67.27 mm'), 'residual not beside the connection');
     assert(await p.getByTestId('note-C').isVisible(), 'no note beside C in the view');
+    // where c2 would put C: beside B, its corner at (60, 0, 0)
+    const f = a.residuals[0].frame;
+    assert(near(f[12], 60, 1e-6) && near(f[13], 0, 1e-6) && near(f[14], 0, 1e-6), `c2's placement of C ${f}`);
+    assert((await p.getByTestId('residual-ghost-c2').textContent()).includes('c2 would put C here: 67.27 mm'), 'no ghost of the disagreeing placement');
     await shot(p, 'residual');
     await p.close();
   });

@@ -45,6 +45,9 @@ struct CycleResidual {
   double position_mm = 0;
   double angle_deg = 0;
   bool closes = true;  ///< within CheckOptions' cycle tolerances
+  /// Where this connection would put the component (component frame → world), to show next to
+  /// where it is (PlacedComponent::frame).
+  Mat4 frame = Mat4::Identity();
 };
 
 /// Everything check() found.

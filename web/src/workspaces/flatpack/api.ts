@@ -19,7 +19,8 @@ export interface JointInfo {
   id: number; kind: 'finger-finger' | 'finger-hole' | 'slot-slot'; pieces: [string, string]; automatic: boolean;
   connection: number; start: P3; end: P3; length_mm: number; angle_deg: number; fingers: number; finger_width_mm: number;
 }
-export interface Residual { connection: number; name: string; component: string; piece: string; position_mm: number; angle_deg: number; closes: boolean }
+/** A cycle-closing connection's residual; `frame` is where it would put `component` (column-major). */
+export interface Residual { connection: number; name: string; component: string; piece: string; position_mm: number; angle_deg: number; closes: boolean; frame: number[] }
 export interface FpDiagnostic extends Diagnostic { class?: string; pieces: string[] }
 export interface SheetPiece { piece: string; rotation_deg: number; rings: [number, number][][] }
 export interface SheetLabel { text: string; at: [number, number]; height: number; rotation: number }

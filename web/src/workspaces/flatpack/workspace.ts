@@ -385,6 +385,22 @@ export class FlatpackWorkspace implements MountedWorkspace {
         scene.addLabel('fp-joints', a.clone().add(b).multiplyScalar(0.5).add(off), `auto j${j.id}`, { class: 'fp-auto', 'data-testid': `auto-joint-${j.id}`, title: `joint ${j.id}: ${j.kind} between ${j.pieces.join(' and ')}, found where they cross — no connection asked for it` });
       }
     }
+    // A cycle that does not close: a dashed outline where the closing connection would put the
+    // component, and a line from where it is to there, labelled with the residual.
+    for (const r of asm.residuals) {
+      if (r.closes) continue;
+      const c = asm.components.find((x) => x.name === r.component);
+      if (!c || c.outline.length < 3) continue;
+      const there = new THREE.Matrix4().fromArray(r.frame), here = new THREE.Matrix4().fromArray(c.frame);
+      const ring = c.outline.map(([x, y]) => new THREE.Vector3(x, y, 0).applyMatrix4(there));
+      const loop = new THREE.LineLoop(new THREE.BufferGeometry().setFromPoints(ring), new THREE.LineDashedMaterial({ color: 0xd00000, dashSize: 4, gapSize: 3 }));
+      loop.computeLineDistances();
+      const mid = (m: THREE.Matrix4) => c.outline.reduce((acc, [x, y]) => acc.add(new THREE.Vector3(x, y, 0).applyMatrix4(m)), new THREE.Vector3()).divideScalar(c.outline.length);
+      const a = mid(here), b = mid(there);
+      const gap = new THREE.Line(new THREE.BufferGeometry().setFromPoints([a, b]), new THREE.LineBasicMaterial({ color: 0xd00000 }));
+      scene.layer('fp-notes').add(loop, gap);
+      scene.addLabel('fp-notes', b, `${r.name} would put ${r.component} here: ${r.position_mm.toFixed(2)} mm, ${r.angle_deg.toFixed(2)}° off`, { class: 'fp-note error', 'data-testid': `residual-ghost-${r.name}` });
+    }
     // Warnings and residuals beside the piece they concern.
     const notes = new Map<string, string[]>();
     for (const d of asm.diagnostics) for (const p of d.pieces) notes.set(p, [...(notes.get(p) ?? []), `${d.severity === 'error' ? '✖' : d.severity === 'note' ? 'ℹ' : '⚠'} ${d.message}`]);
