@@ -228,7 +228,7 @@ Analysis check(const Design& design, const CheckOptions& options) {
                         fc.spec->places_only});
   }
   if (!ok) return a;
-  detail::place(a.components, resolved, options, a.diagnostics);
+  detail::place(a.components, resolved, options, a.diagnostics, &a.residuals);
   if (a.diagnostics.has_errors()) return a;
   // Stand the furniture on the floor: the lowest mid-plane point at z = 0.
   double min_z = 1e300;
@@ -238,6 +238,7 @@ Analysis check(const Design& design, const CheckOptions& options) {
     }
   }
   for (PlacedComponent& c : a.components) c.frame(2, 3) -= min_z;
+  for (CycleResidual& r : a.residuals) r.frame(2, 3) -= min_z;
   a.placed = true;
   clock.lap("place");
 

@@ -9,7 +9,9 @@
 #include <cmath>
 #include <deque>
 #include <functional>
+#include <limits>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "fabkit/flatpack/diagnostic_codes.h"
@@ -67,7 +69,8 @@ Mat4 relative_transform(const ComponentShape& a,
 void place(std::vector<PlacedComponent>& components,
            const std::vector<ResolvedConnection>& connections,
            const CheckOptions& options,
-           Diagnostics& diags) {
+           Diagnostics& diags,
+           std::vector<CycleResidual>* residuals) {
   const int n = static_cast<int>(components.size());
   std::vector<std::vector<int>> incident(static_cast<std::size_t>(n));
   for (int k = 0; k < static_cast<int>(connections.size()); ++k) {
@@ -78,11 +81,14 @@ void place(std::vector<PlacedComponent>& components,
   std::vector<int> parent_connection(static_cast<std::size_t>(n), -1);
   std::vector<char> tree(connections.size(), 0);
   std::vector<std::string> stray;
+  // With separate_groups_mm, the right end (world x) of the groups placed so far.
+  std::optional<double> groups_max_x;
   for (int root = 0; root < n; ++root) {
     if (placed[static_cast<std::size_t>(root)]) continue;
     if (root > 0) stray.push_back(components[static_cast<std::size_t>(root)].name);
     components[static_cast<std::size_t>(root)].frame = Mat4::Identity();
     placed[static_cast<std::size_t>(root)] = 1;
+    std::vector<int> group{root};
     // Breadth first, so a component is placed from the shortest chain of connections.
     std::deque<int> queue{root};
     while (!queue.empty()) {
@@ -101,6 +107,7 @@ void place(std::vector<PlacedComponent>& components,
           parent_connection[static_cast<std::size_t>(other)] = k;
           tree[static_cast<std::size_t>(k)] = 1;
           queue.push_back(other);
+          group.push_back(other);
         } else if (!tree[static_cast<std::size_t>(k)] && rc.b == c) {
           // A connection that closes a cycle: does it agree with the placement already made?
           const Mat4& actual = components[static_cast<std::size_t>(other)].frame;
@@ -111,7 +118,18 @@ void place(std::vector<PlacedComponent>& components,
           }
           const double angle = rotation_angle_deg(actual.topLeftCorner<3, 3>().transpose() *
                                                   predicted.topLeftCorner<3, 3>());
-          if (position > options.cycle_tolerance_mm || angle > options.cycle_tolerance_deg) {
+          const bool closes =
+              position <= options.cycle_tolerance_mm && angle <= options.cycle_tolerance_deg;
+          if (residuals) {
+            residuals->push_back({k,
+                                  rc.name,
+                                  components[static_cast<std::size_t>(other)].name,
+                                  position,
+                                  angle,
+                                  closes,
+                                  predicted});
+          }
+          if (!closes) {
             // The cycle: this connection and the tree paths of its two ends.
             std::vector<std::string> path;
             auto climb = [&](int x) {
@@ -148,13 +166,36 @@ void place(std::vector<PlacedComponent>& components,
         }
       }
     }
+    if (options.separate_groups_mm > 0) {
+      // Lay this group beside the ones before it (along +x), so unconnected groups neither
+      // overlap nor merge while a design is being put together.
+      double lo = std::numeric_limits<double>::infinity();
+      double hi = -lo;
+      for (int c : group) {
+        const PlacedComponent& pc = components[static_cast<std::size_t>(c)];
+        for (const Vec2& p : pc.shape.polygon.outer) {
+          const double x = apply(pc.frame, to3(p)).x();
+          lo = std::min(lo, x);
+          hi = std::max(hi, x);
+        }
+      }
+      if (std::isfinite(lo)) {
+        const double shift = groups_max_x ? *groups_max_x + options.separate_groups_mm - lo : 0.0;
+        for (int c : group) {
+          Mat4& frame = components[static_cast<std::size_t>(c)].frame;
+          frame(0, 3) += shift;
+        }
+        groups_max_x = hi + shift;
+      }
+    }
   }
   if (!stray.empty()) {
     diags.warning(
         codes::kNotConnected,
-        fmt::format("not connected to {}: {}; each group is placed on its own (at the origin)",
+        fmt::format("not connected to {}: {}; each group is placed on its own ({})",
                     components.front().name,
-                    fmt::join(stray, ", ")));
+                    fmt::join(stray, ", "),
+                    options.separate_groups_mm > 0 ? "beside the others" : "at the origin"));
   }
 }
 

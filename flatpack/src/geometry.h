@@ -29,11 +29,13 @@ struct ResolvedConnection {
   bool places_only = false;  ///< `joint: none`
 };
 
-/// Algorithm 1 over the connectivity graph; cycle residuals become diagnostics.
+/// Algorithm 1 over the connectivity graph; cycle residuals go to `residuals` (if given) and
+/// those beyond the tolerances become diagnostics.
 void place(std::vector<PlacedComponent>& components,
            const std::vector<ResolvedConnection>& connections,
            const CheckOptions& options,
-           Diagnostics& diags);
+           Diagnostics& diags,
+           std::vector<CycleResidual>* residuals = nullptr);
 
 /// Algorithm 2 and Appendix A: merges, detects, cuts; fills analysis.pieces and joints.
 void detect_and_cut(Analysis& analysis,

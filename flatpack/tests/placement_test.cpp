@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "fabkit/flatpack/diagnostic_codes.h"
 #include "test_support.h"
 
@@ -56,6 +58,59 @@ TEST(Placement, ACycleThatDoesNotCloseIsReportedWithItsResidual) {
   for (const char* name : {"closing", "c1", "c2"})
     EXPECT_NE(text.find(name), std::string::npos) << text;
   EXPECT_NE(text.find("does not close"), std::string::npos) << text;
+  // The residual as numbers. Breadth first from A, "closing" places C on A's top edge (x 0..30,
+  // y 30..60, 5 mm up); c2, met last, would put it beside B (x 60..90, y 0..30, z 0), unturned:
+  // every corner (60, −30, −5) away.
+  ASSERT_EQ(a.residuals.size(), 1u);
+  EXPECT_EQ(a.residuals[0].name, "c2");
+  EXPECT_EQ(a.residuals[0].component, "C");
+  EXPECT_EQ(a.residuals[0].connection, 1);
+  EXPECT_FALSE(a.residuals[0].closes);
+  EXPECT_NEAR(a.residuals[0].position_mm, std::sqrt(60.0 * 60 + 30 * 30 + 5 * 5), 1e-9);
+  EXPECT_NEAR(a.residuals[0].angle_deg, 0, 1e-9);
+  // c2 would put C unturned with its corner at (60, 0, 0); C is where "closing" put it, its
+  // bottom edge on A's top edge: corner at (0, 30), 5 mm up.
+  const Mat4& by_c2 = a.residuals[0].frame;
+  EXPECT_LT((by_c2.topLeftCorner<3, 3>() - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+  EXPECT_LT((by_c2.topRightCorner<3, 1>() - Vec3(60, 0, 0)).norm(), 1e-9) << by_c2;
+  EXPECT_LT((a.components[2].frame.topRightCorner<3, 1>() - Vec3(0, 30, 5)).norm(), 1e-9)
+      << a.components[2].frame;
+}
+
+// Unconnected components sit at the origin and, being coplanar, merge into one piece; with
+// separate_groups_mm each further group is laid beside the previous ones instead.
+TEST(Placement, UnconnectedGroupsAreLaidSideBySideWhenAsked) {
+  const std::string yaml =
+      "fabkit: flatpack/1\ncomponents:\n  - {name: A, type: Rectangle, l: 30, w: 60}\n"
+      "  - {name: B, type: Rectangle, l: 40, w: 60}\n  - {name: C, type: Rectangle, l: 20, w: 10}\n"
+      "  - {name: D, type: Rectangle, l: 20, w: 10}\n"
+      "connections:\n  - {connect: [D.b, C.t], rotation: [90, 0, 0]}\n";
+  const Analysis at_origin = check_yaml(yaml);
+  ASSERT_TRUE(at_origin.placed) << at_origin.diagnostics.format();
+  EXPECT_EQ(at_origin.pieces.size(), 2u);  // A, B and C merge; D stands on C
+  Diagnostics d;
+  const Design design = test::parse(yaml, d);
+  CheckOptions options;
+  options.separate_groups_mm = 50;
+  const Analysis apart = check(design, options);
+  ASSERT_TRUE(apart.placed) << apart.diagnostics.format();
+  ASSERT_EQ(apart.pieces.size(), 4u);
+  // A spans x 0..30; B starts 50 mm after it, C (with D) 50 mm after B: x = 80 and 170.
+  auto min_x = [&](int c) {
+    double lo = 1e9;
+    for (const Vec2& p : apart.components[static_cast<std::size_t>(c)].shape.polygon.outer)
+      lo = std::min(lo,
+                    (apart.components[static_cast<std::size_t>(c)].frame *
+                     Eigen::Vector4d(p.x(), p.y(), 0, 1))
+                        .x());
+    return lo;
+  };
+  EXPECT_NEAR(min_x(0), 0, 1e-9);
+  EXPECT_NEAR(min_x(1), 80, 1e-9);
+  EXPECT_NEAR(min_x(2), 170, 1e-9);
+  EXPECT_NEAR(min_x(3), 170, 1e-9);    // D moved with C
+  EXPECT_EQ(apart.joints.size(), 1u);  // C–D still joined, nothing else touches
+  EXPECT_NE(apart.diagnostics.format().find("beside the others"), std::string::npos);
 }
 
 }  // namespace

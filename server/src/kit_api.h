@@ -50,6 +50,8 @@ struct KitApi {
 KitApi hacks_api(const ApiContext& context);
 /// The templates kit's routes (server/src/templates_api.cpp).
 KitApi templates_api(const ApiContext& context);
+/// The flatpack kit's routes (server/src/flatpack_api.cpp).
+KitApi flatpack_api(const ApiContext& context);
 
 // ---- answering ------------------------------------------------------------------------------
 

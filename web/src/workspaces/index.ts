@@ -3,5 +3,6 @@
 import type { WorkspaceModule } from '../shell/workspace';
 import { hacksWorkspace } from './hacks';
 import { templatesWorkspace } from './templates';
+import { flatpackWorkspace } from './flatpack';
 
-export const workspaces: WorkspaceModule[] = [hacksWorkspace, templatesWorkspace];
+export const workspaces: WorkspaceModule[] = [hacksWorkspace, flatpackWorkspace, templatesWorkspace];

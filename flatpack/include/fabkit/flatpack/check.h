@@ -23,11 +23,31 @@ struct CheckOptions {
   double min_joint_length_mm = 0.5;  ///< shorter intersections are contacts, not joints
   bool assembly_order = true;        ///< look for a press-fit order
   int max_components = 2000;         ///< refuse larger designs (limit-exceeded)
+  /// 0: every group of components no connection links to the first is placed at the origin
+  /// (as Alg. 1 does). > 0: each such group is laid beside the groups before it, this far
+  /// apart along world x (mm), so that it neither overlaps nor merges with them (the editor,
+  /// while a design is being connected).
+  double separate_groups_mm = 0;
 };
 
 struct StageTiming {
   std::string stage;  ///< "solve", "place", "detect", "joints", "assembly", "nest", "write"
   double milliseconds = 0;
+};
+
+/// How well a connection that closes a cycle of connections agrees with the placement the
+/// others give (Alg. 1): the largest distance between where its component is and where the
+/// connection would put it, over the component's outline (mm), and the angle between the two.
+struct CycleResidual {
+  int connection = -1;    ///< index of the connection
+  std::string name;       ///< "c3"
+  std::string component;  ///< the component the two placements disagree on
+  double position_mm = 0;
+  double angle_deg = 0;
+  bool closes = true;  ///< within CheckOptions' cycle tolerances
+  /// Where this connection would put the component (component frame → world), to show next to
+  /// where it is (PlacedComponent::frame).
+  Mat4 frame = Mat4::Identity();
 };
 
 /// Everything check() found.
@@ -47,6 +67,8 @@ struct Analysis {
   std::vector<AssemblyStep> assembly;  ///< press-fit order (empty if none found)
   std::vector<int> not_insertable;     ///< pieces no order can insert (indices)
   std::vector<StageTiming> timings;
+  /// One per connection that closes a cycle (in the order placement met them).
+  std::vector<CycleResidual> residuals;
   Diagnostics diagnostics;
   bool placed = false;  ///< solving and placement succeeded (pieces are meaningful)
 

@@ -10,6 +10,12 @@
 ///   POST /api/compatible            body: {"a": primitive, "b": [primitive...]} → can each connect
 ///                                   to a (Table 1, closedness, sizes) and why not
 ///
+///   GET  /api/flatpack/components   the flat-pack component registry (schemas, edges)
+///   POST /api/flatpack/assemble     body: a flat-pack design (YAML) → pieces with joints cut,
+///                                   joints, residuals, nested sheets, diagnostics per piece
+///   POST /api/flatpack/build?file=F body: a design → one build output (sheet-N.svg, .dxf,
+///                                   model.stl, scene.glb, report.json)
+///
 /// Each kit's routes live under /api/<kit>/ (/api/hacks/check, ...); the hacks kit's also at the
 /// paths above.
 ///
