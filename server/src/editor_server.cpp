@@ -68,6 +68,7 @@ struct EditorServer::Impl {
     const ApiContext context{&options};
     std::vector<KitApi> kits;
     kits.push_back(hacks_api(context));
+    kits.push_back(rods_api(context));
     Json kit_names = Json::array();
     for (const KitApi& kit : kits) {
       startup_errors.append(kit.startup_errors);

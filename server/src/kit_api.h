@@ -48,6 +48,8 @@ struct KitApi {
 
 /// The hacks kit's routes (server/src/hacks_api.cpp).
 KitApi hacks_api(const ApiContext& context);
+/// The rods kit's routes (server/src/rods_api.cpp).
+KitApi rods_api(const ApiContext& context);
 
 // ---- answering ------------------------------------------------------------------------------
 

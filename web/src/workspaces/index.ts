@@ -2,5 +2,6 @@
 // "Adding a workspace"); the switcher offers it once the server also reports its kit.
 import type { WorkspaceModule } from '../shell/workspace';
 import { hacksWorkspace } from './hacks';
+import { rodsWorkspace } from './rods';
 
-export const workspaces: WorkspaceModule[] = [hacksWorkspace];
+export const workspaces: WorkspaceModule[] = [hacksWorkspace, rodsWorkspace];
