@@ -72,7 +72,8 @@ export class RodsWorkspace implements MountedWorkspace {
   private down: { x: number; y: number; shift: boolean } | null = null;
   private boxEl: HTMLElement | null = null;
   private offs: (() => void)[] = [];
-  private framedOnce = false;
+  /** Frame everything after the next preview (opened files, not designs built by clicking). */
+  private frameNext = true;
   hooks: Record<string, unknown>;
 
   constructor(readonly ctx: ShellContext<RodsDesign>) {
@@ -92,7 +93,7 @@ export class RodsWorkspace implements MountedWorkspace {
     this.offs.push(ctx.history.onChange((_d, label) => {
       this.draft = null;
       this.pruneSelection();
-      if (label.startsWith('open') || label === 'new design' || label.startsWith('import')) { this.framedOnce = false; this.assembler.stop(); }
+      if (label.startsWith('open') || label === 'new design' || label.startsWith('import')) { this.frameNext = true; this.assembler.stop(); }
       this.panels.render();
       this.panels.renderMake();
       this.requestPreview(this.doc);
@@ -131,11 +132,14 @@ export class RodsWorkspace implements MountedWorkspace {
         const m = scene.pieces.get(key); if (!m) return null;
         return { color: (m.material as THREE.MeshStandardMaterial).color.getHex(), visible: m.visible };
       },
+      /** Client coordinates where a click picks the joint or rod `key` (along a rod's axis, at a joint's node), or null. */
+      pointOf: (key: string) => this.pointOf(key),
       timeEdits: (n: number) => this.timeEdits(n),
       assembly: () => this.assembler.state(),
       guideHtml: () => this.assembler.guideHtml(),
       buildJob: () => this.panels.job,
     };
+    this.frameNext = this.doc.edges.length > 0;
     this.requestPreview(this.doc);
   }
 
@@ -213,7 +217,7 @@ export class RodsWorkspace implements MountedWorkspace {
       const t2 = performance.now();
       this.timings.push({ total_ms: t2 - t0, fetch_ms: t1 - t0, parse_render_ms: t2 - t1, server_ms: p.timings.server_ms, library_ms: p.timings.library_ms });
       if (this.timings.length > 200) this.timings.shift();
-      if (!this.framedOnce) { this.framedOnce = true; this.ctx.scene.frameAll(); } else this.ctx.scene.keepInView();
+      if (this.frameNext) { this.frameNext = false; this.ctx.scene.frameAll(); } else this.ctx.scene.keepInView();
       this.panels.renderChecks();
       if (!this.assembler.active) this.assembler.renderPanel();
       this.ctx.refreshSelectionLabel();
@@ -509,7 +513,7 @@ export class RodsWorkspace implements MountedWorkspace {
   // ---------------------------------------------------------------- gizmo
   private placeGizmo(): void {
     const n = this.sel.nodes.filter((i) => i < this.doc.nodes.length);
-    if (!n.length || this.tool === 'box' || this.assembler.active) { this.transform.detach(); this.ctx.scene.render(); return; }
+    if (!n.length || this.tool !== 'select' || this.assembler.active) { this.transform.detach(); this.ctx.scene.render(); return; }
     if (this.transform.dragging) return;
     const c = centroid(n.map((i) => this.doc.nodes[i]));
     this.pivot.position.set(...c);
@@ -575,13 +579,35 @@ export class RodsWorkspace implements MountedWorkspace {
     if (!this.transform.object) return null;
     const helper = this.transform.getHelper();
     helper.updateMatrixWorld(true);
-    let picker: THREE.Object3D | null = null;
-    helper.traverse((o) => { if (!picker && o.name === axis && (o as any).material?.visible === false && o.parent?.visible !== false) picker = o; });
-    const found = picker as THREE.Object3D | null;
+    // the gizmo's invisible picking handles for the current mode (three's TransformControlsGizmo)
+    const pickers = (this.transform as any)._gizmo?.picker?.[this.transform.mode] as THREE.Object3D | undefined;
+    const found = pickers?.children.find((o) => o.name === axis) ?? null;
     if (!found) return null;
-    const box = new THREE.Box3().setFromObject(found);
+    const box = new THREE.Box3().setFromObject(found, true);
     const c = box.getCenter(new THREE.Vector3());
     return this.screenOf([c.x, c.y, c.z]);
+  }
+
+  private pointOf(key: string): { x: number; y: number } | null {
+    const k = parseKey(key); if (!k) return null;
+    const d = this.doc;
+    const tries: Vec3[] = [];
+    if (k.kind === 'rod') {
+      const [a, b] = d.edges[k.index] ?? [];
+      if (a === undefined) return null;
+      for (const t of [0.5, 0.4, 0.6, 0.3, 0.7, 0.2, 0.8]) tries.push(d.nodes[a].map((x, i) => x + (d.nodes[b][i] - x) * t) as Vec3);
+    } else if (d.nodes[k.index]) tries.push(d.nodes[k.index]);
+    // a point whose neighbourhood picks the part too (a ray exactly through a mesh vertex, as
+    // at a joint's node, can miss once the event's coordinates are rounded)
+    const picks = (x: number, y: number) => [[0, 0], [0.7, 0], [-0.7, 0], [0, 0.7], [0, -0.7]].every(([dx, dy]) => this.ctx.scene.pickAt(x + dx, y + dy).piece === key);
+    for (const p of tries) {
+      const s = this.screenOf(p);
+      for (const [dx, dy] of [[0, 0], [3, 3], [-3, 3], [3, -3], [-3, -3], [6, 0], [0, 6], [-6, 0], [0, -6]]) {
+        const x = Math.round(s.x + dx), y = Math.round(s.y + dy);
+        if (picks(x, y)) return { x, y };
+      }
+    }
+    return this.ctx.scene.screenPointOf(key);
   }
 
   screenOf(p: Vec3): { x: number; y: number } {
