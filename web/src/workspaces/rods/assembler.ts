@@ -12,7 +12,7 @@ import type { RodsWorkspace } from './workspace';
 import { JOINT_COLOR, ROD_COLOR } from './workspace';
 
 const BACKGROUND = 0xf4f6f8;
-const DESIGN_LAYERS = ['rods-joints', 'rods-rods', 'rods-checks', 'rods-skeleton'];
+const DESIGN_LAYERS = ['rods-joints', 'rods-rods', 'rods-checks', 'rods-skeleton', 'rods-free'];
 
 export class Assembler {
   active = false;

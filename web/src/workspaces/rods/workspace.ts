@@ -5,7 +5,7 @@ import * as THREE from 'three';
 import { TransformControls } from 'three/examples/jsm/controls/TransformControls.js';
 import { ApiError } from '../../shell/server';
 import { geometryOf } from '../../shell/scene';
-import type { Vec3 } from '../../shell/scene';
+import type { MeshData, Vec3 } from '../../shell/scene';
 import type { SelectionState } from '../../shell/selection';
 import type { MountedWorkspace, ShellContext } from '../../shell/workspace';
 import { rodsApi } from './api';
@@ -39,7 +39,8 @@ export function postable(d: RodsDesign): { yaml: string; kept: number[] } {
 }
 
 export type Tool = 'select' | 'add' | 'box';
-export interface EditTiming { total_ms: number; fetch_ms: number; parse_render_ms: number; server_ms: number; library_ms: number }
+/** One edit's round trip (ms): request (server + transfer + JSON parse), drawing (JS), waiting for the GPU (tests only). */
+export interface EditTiming { total_ms: number; fetch_ms: number; parse_render_ms: number; draw_ms: number; gpu_ms: number; server_ms: number; library_ms: number }
 
 export class RodsWorkspace implements MountedWorkspace {
   readonly api: RodsApi;
@@ -135,6 +136,19 @@ export class RodsWorkspace implements MountedWorkspace {
       /** Client coordinates where a click picks the joint or rod `key` (along a rod's axis, at a joint's node), or null. */
       pointOf: (key: string) => this.pointOf(key),
       timeEdits: (n: number) => this.timeEdits(n),
+      /** Median time (ms) of drawing the view once, waiting for the GPU. */
+      timeRender: (n: number) => {
+        const gl = scene.renderer.getContext();
+        const ts: number[] = [];
+        for (let k = 0; k < n; ++k) {
+          const t0 = performance.now();
+          scene.render();
+          gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+          ts.push(performance.now() - t0);
+        }
+        ts.sort((a, b) => a - b);
+        return ts[Math.floor(n / 2)];
+      },
       assembly: () => this.assembler.state(),
       guideHtml: () => this.assembler.guideHtml(),
       buildJob: () => this.panels.job,
@@ -214,8 +228,13 @@ export class RodsWorkspace implements MountedWorkspace {
       if (this.previewError) this.ctx.message('');
       this.previewError = null;
       this.draw();
+      const tDraw = performance.now();
+      if (this.syncTimings) { // wait for the GPU to finish drawing (timings only: it stalls the pipeline)
+        const gl = this.ctx.scene.renderer.getContext();
+        gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+      }
       const t2 = performance.now();
-      this.timings.push({ total_ms: t2 - t0, fetch_ms: t1 - t0, parse_render_ms: t2 - t1, server_ms: p.timings.server_ms, library_ms: p.timings.library_ms });
+      this.timings.push({ total_ms: t2 - t0, fetch_ms: t1 - t0, parse_render_ms: t2 - t1, draw_ms: tDraw - t1, gpu_ms: t2 - tDraw, server_ms: p.timings.server_ms, library_ms: p.timings.library_ms });
       if (this.timings.length > 200) this.timings.shift();
       if (this.frameNext) { this.frameNext = false; this.ctx.scene.frameAll(); } else this.ctx.scene.keepInView();
       this.panels.renderChecks();
@@ -231,7 +250,9 @@ export class RodsWorkspace implements MountedWorkspace {
   }
 
   /** Applies `n` small moves one after another and times each round trip (tests, docs/benchmarks.md). */
+  private syncTimings = false;
   private async timeEdits(n: number): Promise<EditTiming[]> {
+    this.syncTimings = true;
     const start = this.timings.length;
     for (let k = 0; k < n; ++k) {
       const d = this.doc;
@@ -240,6 +261,7 @@ export class RodsWorkspace implements MountedWorkspace {
       this.ctx.history.apply(moveNodes(d, new Map([[i, [p[0] + (k % 2 ? -1 : 1), p[1], p[2]] as Vec3]])), 'move (timing)');
       while (this.inflight || this.queued) await new Promise((r) => setTimeout(r, 1));
     }
+    this.syncTimings = false;
     return this.timings.slice(start);
   }
 
@@ -272,43 +294,70 @@ export class RodsWorkspace implements MountedWorkspace {
   /** Draws the preview (joints white, rods wood-brown, red where a check fails) and the checks. */
   draw(): void {
     const scene = this.ctx.scene;
-    for (const l of ['rods-joints', 'rods-rods', 'rods-checks']) scene.clearLayer(l);
+    scene.clearLayer('rods-checks');
+    scene.clearLayer('rods-free');
     scene.clearStates();
     const doc = this.doc;
     const p = this.preview;
     const flat = (color: number) => new THREE.MeshStandardMaterial({ color, roughness: 0.75, metalness: 0, flatShading: true });
+    // What to draw, by key; meshes whose geometry did not change are kept as they are (an edit
+    // touches the joints and rods around what moved, and uploading only those keeps drags smooth).
+    const want = new Map<string, { layer: string; mesh: MeshData; color: number }>();
     if (p && this.previewDoc) {
       p.joints.forEach((j, k) => {
         const i = this.kept[k];
-        if (i === undefined || i >= doc.nodes.length) return;
-        const mesh = new THREE.Mesh(geometryOf(j.mesh), flat(JOINT_COLOR));
-        scene.layer('rods-joints').add(mesh);
-        scene.pickable(mesh, jointKey(i), jointKey(i), JOINT_COLOR);
-        if (j.red) scene.setState(jointKey(i), { bad: true });
+        if (i !== undefined && i < doc.nodes.length) want.set(jointKey(i), { layer: 'rods-joints', mesh: j.mesh, color: JOINT_COLOR });
       });
       p.rods.forEach((r, e) => {
         if (e >= doc.edges.length) return;
-        const color = this.ramp && r.utilisation !== undefined ? rampColor(r.utilisation) : ROD_COLOR;
-        const mesh = new THREE.Mesh(geometryOf(r.mesh), flat(color));
-        scene.layer('rods-rods').add(mesh);
-        scene.pickable(mesh, rodKey(e), rodKey(e), color);
-        if (r.red && !this.ramp) scene.setState(rodKey(e), { bad: true });
+        want.set(rodKey(e), { layer: 'rods-rods', mesh: r.mesh, color: this.ramp && r.utilisation !== undefined ? rampColor(r.utilisation) : ROD_COLOR });
       });
-      this.drawChecks(p);
     }
+    let removed = false;
+    for (const [key, d] of this.drawn) {
+      if (want.get(key)?.layer === d.layer) continue;
+      scene.layer(d.layer).remove(d.mesh);
+      d.mesh.geometry.dispose();
+      this.drawn.delete(key);
+      removed = true;
+    }
+    let reshaped = removed;
+    for (const [key, w] of want) {
+      const d = this.drawn.get(key);
+      if (!d) {
+        const mesh = new THREE.Mesh(geometryOf(w.mesh), flat(w.color));
+        scene.layer(w.layer).add(mesh);
+        scene.pickable(mesh, key, key, w.color);
+        this.drawn.set(key, { layer: w.layer, mesh, data: w.mesh });
+        continue;
+      }
+      d.mesh.userData.color = w.color;
+      if (!sameMesh(d.data, w.mesh)) {
+        const g = geometryOf(w.mesh);
+        d.mesh.geometry.dispose();
+        d.mesh.geometry = g;
+        for (const c of d.mesh.children) if ((c as THREE.Mesh).isMesh) (c as THREE.Mesh).geometry = g; // its outline
+        d.data = w.mesh;
+        reshaped = true;
+      }
+    }
+    // forgets removed pickables and lets the floor follow the new shape (clearLayer does both)
+    if (reshaped) { scene.layer('rods-scratch'); scene.clearLayer('rods-scratch'); }
+    if (p && this.previewDoc) this.drawChecks(p);
     // nodes no rod touches yet: a white ball to pick and connect from
     const iso = isolatedNodes(doc);
     const ball = Math.max(doc.rod.radius + doc.joint.wall, 4);
     for (const i of iso) {
       const mesh = new THREE.Mesh(new THREE.SphereGeometry(ball, 16, 12), flat(JOINT_COLOR));
       mesh.position.set(...doc.nodes[i]);
-      scene.layer('rods-joints').add(mesh);
+      scene.layer('rods-free').add(mesh);
       scene.pickable(mesh, jointKey(i), jointKey(i), JOINT_COLOR);
     }
-    this.drawSkeleton();
-    this.styleSelection();
+    this.drawSkeleton(false);
+    this.styleSelection(); // renders once
     this.assembler.redraw();
   }
+  private drawn = new Map<string, { layer: string; mesh: THREE.Mesh; data: MeshData }>();
 
   private drawChecks(p: Preview): void {
     const scene = this.ctx.scene;
@@ -354,11 +403,11 @@ export class RodsWorkspace implements MountedWorkspace {
   }
 
   /** Thin lines along the edges of the document shown: they follow a drag before the server answers. */
-  drawSkeleton(): void {
+  drawSkeleton(render = true): void {
     const scene = this.ctx.scene;
     scene.clearLayer('rods-skeleton');
     const d = this.doc;
-    if (!d.edges.length) { scene.render(); return; }
+    if (!d.edges.length) { if (render) scene.render(); return; }
     const pts: number[] = [];
     for (const [a, b] of d.edges) pts.push(...d.nodes[a], ...d.nodes[b]);
     const g = new THREE.BufferGeometry();
@@ -366,7 +415,7 @@ export class RodsWorkspace implements MountedWorkspace {
     const lines = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color: SKELETON_COLOR, transparent: true, opacity: 0.7 }));
     lines.raycast = () => {};
     scene.layer('rods-skeleton').add(lines);
-    scene.render();
+    if (render) scene.render();
   }
 
   /** Selection states, the gizmo on the selected nodes, the panels. */
@@ -497,6 +546,7 @@ export class RodsWorkspace implements MountedWorkspace {
     const n = this.sel.nodes; if (!n.length) return;
     const c0 = centroid(n.map((i) => d.nodes[i]));
     const delta = [c[0] - c0[0], c[1] - c0[1], c[2] - c0[2]];
+    if (delta.every((x) => Math.abs(x) < 1e-9)) return; // nothing moves: no command
     const pos = new Map(n.map((i) => [i, d.nodes[i].map((x, k) => x + delta[k]) as Vec3]));
     this.ctx.history.apply(moveNodes(d, pos), `move ${n.length === 1 ? jointName(d, n[0]) : `${n.length} joints`} to ${c.map((x) => x.toFixed(1)).join(', ')}`);
   }
@@ -507,6 +557,7 @@ export class RodsWorkspace implements MountedWorkspace {
     update(next);
     if (label === null) { this.draft = next; this.requestPreview(next); return; }
     this.draft = null;
+    if (JSON.stringify(next) === JSON.stringify(this.ctx.history.current)) { this.requestPreview(next); return; } // unchanged: no command
     this.ctx.history.apply(next, label);
   }
 
@@ -662,6 +713,14 @@ export class RodsWorkspace implements MountedWorkspace {
     else if (k === 'r') this.setGizmoMode('rotate');
     else if (k === 'x') this.setGizmoMode('scale');
   }
+}
+
+function sameMesh(a: MeshData, b: MeshData): boolean {
+  if (a === b) return true;
+  if (a.vertices.length !== b.vertices.length || a.faces.length !== b.faces.length) return false;
+  for (let i = 0; i < a.vertices.length; ++i) if (a.vertices[i] !== b.vertices[i]) return false;
+  for (let i = 0; i < a.faces.length; ++i) if (a.faces[i] !== b.faces[i]) return false;
+  return true;
 }
 
 export function centroid(ps: Vec3[]): Vec3 {
