@@ -4,7 +4,7 @@
 // neighbours; joints carry their engraved ID, rods their length. Also the printable guide: one
 // small picture and one line per step.
 import * as THREE from 'three';
-import { geometryOf } from '../../shell/scene';
+import { geometryOf, outlineMaterial } from '../../shell/scene';
 import { el, download } from '../../shell/ui';
 import { fileStem } from '../../shell/shell';
 import type { AssemblyStep, Preview } from './api';
@@ -13,6 +13,15 @@ import { JOINT_COLOR, ROD_COLOR } from './workspace';
 
 const BACKGROUND = 0xf4f6f8;
 const DESIGN_LAYERS = ['rods-joints', 'rods-rods', 'rods-checks', 'rods-skeleton', 'rods-free'];
+
+/** The current part's outline (orange, constant screen width): it stands out on any background. */
+function outline(mesh: THREE.Mesh, resolution: THREE.Vector2): THREE.Mesh {
+  const m = outlineMaterial(0xff9800, 3);
+  m.uniforms.resolution.value.copy(resolution);
+  const hull = new THREE.Mesh(mesh.geometry, m);
+  hull.raycast = () => {};
+  return hull;
+}
 
 export class Assembler {
   active = false;
@@ -31,6 +40,7 @@ export class Assembler {
     this.p = w.preview; this.kept = [...w.kept];
     this.active = true; this.step = 0;
     w.transform.detach();
+    w.ctx.scene.clearLayer('rods-checks'); // its labels are HTML: hiding the layer would leave them
     for (const l of DESIGN_LAYERS) w.ctx.scene.layer(l).visible = false;
     this.redraw();
     this.ease(0);
@@ -43,7 +53,7 @@ export class Assembler {
     const scene = this.w.ctx.scene;
     scene.clearLayer('rods-assembly');
     for (const l of DESIGN_LAYERS) scene.layer(l).visible = true;
-    this.w.styleSelection();
+    this.w.draw();
     this.renderPanel();
   }
 
@@ -63,7 +73,7 @@ export class Assembler {
   }
 
   /** The scene of step k: current part full colour, placed parts recessed, future parts faint. */
-  private group(k: number): THREE.Group {
+  private group(k: number, resolution: THREE.Vector2): THREE.Group {
     const p = this.p!;
     const g = new THREE.Group();
     const { placedJoints, placedRods, current } = this.partsAt(k);
@@ -76,6 +86,7 @@ export class Assembler {
       if (isCurrent || placedJoints.has(i)) {
         const m = new THREE.Mesh(geometryOf(j.mesh), isCurrent ? full(JOINT_COLOR) : recessed(JOINT_COLOR));
         m.name = isCurrent ? 'current' : 'placed';
+        if (isCurrent) m.add(outline(m, resolution));
         g.add(m);
       } else futurePoints.push(...j.position);
     });
@@ -84,13 +95,14 @@ export class Assembler {
       if (isCurrent || placedRods.has(e)) {
         const m = new THREE.Mesh(geometryOf(r.mesh), isCurrent ? full(ROD_COLOR) : recessed(ROD_COLOR));
         m.name = isCurrent ? 'current' : 'placed';
+        if (isCurrent) m.add(outline(m, resolution));
         g.add(m);
       } else futureLines.push(...p.joints[r.a].position, ...p.joints[r.b].position);
     });
     if (futurePoints.length) {
       const geo = new THREE.BufferGeometry();
       geo.setAttribute('position', new THREE.Float32BufferAttribute(futurePoints, 3));
-      const pts = new THREE.Points(geo, new THREE.PointsMaterial({ color: 0x99a3ad, size: 6, sizeAttenuation: false, transparent: true, opacity: 0.7 }));
+      const pts = new THREE.Points(geo, new THREE.PointsMaterial({ color: 0x7d8893, size: 8, sizeAttenuation: false, transparent: true, opacity: 0.7 }));
       pts.name = 'future-joints';
       g.add(pts);
     }
@@ -123,7 +135,7 @@ export class Assembler {
     const scene = this.w.ctx.scene;
     scene.clearLayer('rods-assembly');
     const layer = scene.layer('rods-assembly');
-    layer.add(this.group(this.step));
+    layer.add(this.group(this.step, scene.renderer.getSize(new THREE.Vector2())));
     const p = this.p;
     const { placedJoints, current } = this.partsAt(this.step);
     for (const i of placedJoints) scene.addLabel('rods-assembly', new THREE.Vector3(...p.joints[i].position), p.joints[i].label, { class: 'rods-id', 'data-testid': `assembly-label-${p.joints[i].label}` });
@@ -201,12 +213,13 @@ export class Assembler {
         const scene = new THREE.Scene();
         scene.add(new THREE.HemisphereLight(0xffffff, 0x667788, 1.6));
         const sun = new THREE.DirectionalLight(0xffffff, 1.2); sun.position.set(1, -2, 3); scene.add(sun);
-        const g = this.group(k);
+        const g = this.group(k, new THREE.Vector2(width, height));
         scene.add(g);
         const whole = new THREE.Box3().setFromObject(g);
-        const focus = this.focusBox(k).union(new THREE.Box3().setFromCenterAndSize(whole.getCenter(new THREE.Vector3()), whole.getSize(new THREE.Vector3()).multiplyScalar(0.6)));
+        // the current part and its neighbours, with some of the rest around them
+        const focus = this.focusBox(k);
         const c = focus.getCenter(new THREE.Vector3());
-        const size = Math.max(60, focus.getSize(new THREE.Vector3()).length());
+        const size = Math.min(whole.getSize(new THREE.Vector3()).length(), Math.max(60, focus.getSize(new THREE.Vector3()).length() * 1.4));
         camera.position.copy(c.clone().add(new THREE.Vector3(1, -1.3, 0.9).normalize().multiplyScalar((size / (2 * Math.tan((40 * Math.PI) / 360))) * 1.1)));
         camera.lookAt(c);
         renderer.render(scene, camera);

@@ -343,7 +343,7 @@ export class RodsWorkspace implements MountedWorkspace {
     }
     // forgets removed pickables and lets the floor follow the new shape (clearLayer does both)
     if (reshaped) { scene.layer('rods-scratch'); scene.clearLayer('rods-scratch'); }
-    if (p && this.previewDoc) this.drawChecks(p);
+    if (p && this.previewDoc && !this.assembler.active) this.drawChecks(p);
     // nodes no rod touches yet: a white ball to pick and connect from
     const iso = isolatedNodes(doc);
     const ball = Math.max(doc.rod.radius + doc.joint.wall, 4);
