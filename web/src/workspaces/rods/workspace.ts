@@ -83,7 +83,8 @@ export class RodsWorkspace implements MountedWorkspace {
     this.transform = new TransformControls(scene.camera, scene.renderer.domElement);
     this.transform.setSize(0.8);
     scene.scene.add(this.pivot, this.transform.getHelper());
-    this.transform.addEventListener('change', () => scene.render());
+    // the gizmo says 'change' for every property it sets (mode, object, axis...): one frame for all
+    this.transform.addEventListener('change', () => this.renderSoon());
     this.transform.addEventListener('dragging-changed', (e) => this.onGizmoDragging(!!(e as any).value));
     this.transform.addEventListener('objectChange', () => this.onGizmoChange());
     this.assembler = new Assembler(this);
@@ -202,7 +203,8 @@ export class RodsWorkspace implements MountedWorkspace {
   /** Asks the server for the preview of `doc`; one request at a time, the newest state wins. */
   requestPreview(doc: RodsDesign): void {
     this.queued = doc;
-    this.drawSkeleton();
+    // while dragging, the skeleton follows at once (one frame before the server answers)
+    this.drawSkeleton(this.draft !== null);
     if (!this.inflight) void this.ctx.track(this.pump());
   }
   private async pump(): Promise<void> {
@@ -564,7 +566,7 @@ export class RodsWorkspace implements MountedWorkspace {
   // ---------------------------------------------------------------- gizmo
   private placeGizmo(): void {
     const n = this.sel.nodes.filter((i) => i < this.doc.nodes.length);
-    if (!n.length || this.tool !== 'select' || this.assembler.active) { this.transform.detach(); this.ctx.scene.render(); return; }
+    if (!n.length || this.tool !== 'select' || this.assembler.active) { this.transform.detach(); this.renderSoon(); return; }
     if (this.transform.dragging) return;
     const c = centroid(n.map((i) => this.doc.nodes[i]));
     this.pivot.position.set(...c);
@@ -573,7 +575,15 @@ export class RodsWorkspace implements MountedWorkspace {
     this.pivot.updateMatrixWorld();
     this.transform.setMode(n.length === 1 && this.gizmoMode !== 'translate' ? 'translate' : this.gizmoMode);
     this.transform.attach(this.pivot);
-    this.ctx.scene.render();
+    this.renderSoon();
+  }
+
+  private renderPending = false;
+  /** Renders at the next animation frame (however many changes come before it). */
+  renderSoon(): void {
+    if (this.renderPending) return;
+    this.renderPending = true;
+    requestAnimationFrame(() => { this.renderPending = false; this.ctx.scene.render(); });
   }
 
   private onGizmoDragging(dragging: boolean): void {
