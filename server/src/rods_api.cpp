@@ -44,6 +44,8 @@ constexpr int kMaxNodes = 2000;
 constexpr int kMaxEdges = 5000;
 /// Finished builds kept for download; older ones are forgotten.
 constexpr std::size_t kKeptBuilds = 6;
+/// A build's time limit, in multiples of the server's solve limit (20 s × 6 = 2 min).
+constexpr double kBuildTimeFactor = 6;
 
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -102,7 +104,9 @@ bool reject_input(const Design& d, httplib::Response& res) {
 std::string located_errors(const Diagnostics& d) {
   std::string out;
   for (const Diagnostic& x : d) {
-    if (x.severity == Severity::kError) out += (out.empty() ? "" : "\n") + x.format();
+    if (x.severity != Severity::kError) continue;
+    if (!out.empty()) out += '\n';
+    out += x.format();
   }
   return out;
 }
@@ -348,9 +352,23 @@ void run_build(const std::shared_ptr<BuildJob>& job,
     }
     result["joints"] = joints;
     if (s.cut_plan) {
+      json stock = json::array();
+      for (const StockCut& cut : s.cut_plan->stock) {
+        json pieces = json::array();
+        for (const PlacedPiece& piece : cut.pieces) {
+          const auto k = static_cast<std::size_t>(piece.piece);
+          pieces.push_back({{"label", k < s.cut_pieces.size() ? s.cut_pieces[k].label : ""},
+                            {"start", um(piece.start)},
+                            {"length", um(piece.length)}});
+        }
+        stock.push_back({{"pieces", pieces}, {"remainder", um(cut.remainder)}});
+      }
       result["cut_plan"] = {{"stock_count", s.cut_plan->stock_count()},
                             {"proven_optimal", s.cut_plan->proven_optimal},
-                            {"summary", s.cut_plan->summary}};
+                            {"summary", s.cut_plan->summary},
+                            {"stock_length", design.parameters.stock.length},
+                            {"end_padding", design.parameters.stock.end_padding},
+                            {"stock", stock}};
     }
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() /
@@ -485,8 +503,11 @@ KitApi rods_api(const ApiContext& context) {
            jobs->jobs.push_back(job);
            while (jobs->jobs.size() > kKeptBuilds) jobs->jobs.pop_front();
          }
-         const auto deadline = context.deadline();
-         const double timeout_s = context.options->solve_timeout_s;
+         // A build runs in the background, not inside the request: it may take several times
+         // a solve's limit (28 engraved joints take ~9 s on two idle cores, more when busy).
+         const double timeout_s = context.options->solve_timeout_s * kBuildTimeFactor;
+         const auto deadline =
+             Clock::now() + std::chrono::milliseconds(static_cast<long long>(timeout_s * 1000));
          std::thread([job, design = std::move(d), deadline, timeout_s] {
            run_build(job, design, deadline, timeout_s);
          }).detach();

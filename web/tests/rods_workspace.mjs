@@ -328,6 +328,8 @@ try {
     // the cut plan is drawn in the page
     await p.getByTestId('cut-plan-image').waitFor();
     assert(await p.getByTestId('cut-plan-image').evaluate((img) => img.complete && img.naturalWidth > 100), 'cut plan image not drawn');
+    const bars = await p.locator('[data-testid=cut-plan-bars] title').allTextContents();
+    assert(bars.length === 12 && bars.every((t) => /^rod \d\d-\d\d: [\d.]+ mm$/.test(t)), `cut plan bars: ${bars}`);
     await shot(p, 'make-it');
     await p.close();
   });

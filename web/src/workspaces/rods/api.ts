@@ -37,7 +37,10 @@ export interface BuildResult {
   diagnostics: Finding[];
   timings: Record<string, number>;
   joints?: { joint: number; label: string; closed: boolean; manifold: boolean; self_intersecting: boolean; volume: number; text_height: number }[];
-  cut_plan?: { stock_count: number; proven_optimal: boolean; summary: string };
+  cut_plan?: {
+    stock_count: number; proven_optimal: boolean; summary: string; stock_length: number; end_padding: number;
+    stock: { pieces: { label: string; start: number; length: number }[]; remainder: number }[];
+  };
   files: { name: string; bytes: number }[];
 }
 export interface BuildJob { job: number; state: 'running' | 'done' | 'failed'; done: number; total: number; seconds: number; status?: number; result?: BuildResult }

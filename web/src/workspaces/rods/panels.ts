@@ -357,8 +357,42 @@ export class Panels {
     guideDl.addEventListener('click', () => void w.ctx.track(w.assembler.downloadGuide()));
     b.append(el('div', { class: 'row' }, guide, guideDl));
     const plan = el('div', { 'data-testid': 'cut-plan', class: 'cut-plan' }, el('b', {}, 'Cut plan'), r.cut_plan ? ` ${r.cut_plan.summary}` : '');
-    // drawn as an image: the SVG is the server's file, and an <img> never runs what is in it
-    if (this.cutPlanUrl) plan.append(el('img', { alt: 'cut plan', 'data-testid': 'cut-plan-image', src: this.cutPlanUrl, style: 'width:100%' }));
+    if (r.cut_plan) plan.append(cutPlanDrawing(r.cut_plan));
+    // the server's true-size SVG, as an image (an <img> never runs what is in it): click for full size
+    if (this.cutPlanUrl) {
+      const a = el('a', { href: this.cutPlanUrl, target: '_blank', title: 'cut_plan.svg at full size' },
+        el('img', { alt: 'cut plan (true size)', 'data-testid': 'cut-plan-image', src: this.cutPlanUrl, style: 'width:100%' }));
+      plan.append(a);
+    }
     b.append(plan);
   }
+}
+
+/** The cut plan as bars: one per stock rod, its pieces labelled, end padding and remainder grey. */
+function cutPlanDrawing(plan: NonNullable<import('./api').BuildResult['cut_plan']>): SVGSVGElement {
+  const ns = 'http://www.w3.org/2000/svg';
+  const W = 320, row = 26, L = plan.stock_length, sx = W / L;
+  const svg = document.createElementNS(ns, 'svg');
+  svg.setAttribute('viewBox', `0 0 ${W} ${plan.stock.length * row + 4}`);
+  svg.setAttribute('width', '100%');
+  svg.dataset.testid = 'cut-plan-bars';
+  const add = (tag: string, attrs: Record<string, string | number>, text?: string) => {
+    const e = document.createElementNS(ns, tag);
+    for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, String(v));
+    if (text) e.textContent = text;
+    svg.append(e);
+    return e;
+  };
+  plan.stock.forEach((cut, i) => {
+    const y = i * row + 2;
+    add('rect', { x: 0, y, width: W, height: row - 8, fill: '#e8e8e8', stroke: '#889', 'stroke-width': 0.5 });
+    for (const piece of cut.pieces) {
+      const x = (plan.end_padding + piece.start) * sx, w = piece.length * sx;
+      add('rect', { x, y, width: w, height: row - 8, fill: '#c89b66', stroke: '#5a3a14', 'stroke-width': 0.6 }).append(
+        Object.assign(document.createElementNS(ns, 'title'), { textContent: `${piece.label}: ${piece.length.toFixed(1)} mm` }));
+      add('text', { x: x + w / 2, y: y + 12, 'font-size': 7.5, 'text-anchor': 'middle', fill: '#2b1a08' }, `${piece.label.replace('rod ', '')} ${piece.length.toFixed(1)}`);
+    }
+    add('text', { x: W - 2, y: y + row - 1, 'font-size': 6.5, 'text-anchor': 'end', fill: '#667' }, `stock ${i + 1}: ${cut.remainder.toFixed(0)} mm left`);
+  });
+  return svg;
 }
