@@ -30,6 +30,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -256,6 +257,23 @@ json preview_json(const Design& d) {
   Diagnostics findings = d.diagnostics;
   findings.append(report.findings);
   findings.append(frame.findings);
+  json findings_out = findings_json(s, findings);
+  // The joints a finding is about where its message names them by label only: a swallowed or
+  // missing rod is its two joints' doing (their offsets), a tipping design its floor contacts'.
+  for (json& f : findings_out) {
+    const std::string code = f["code"].get<std::string>();
+    if (f["severity"] != "error") continue;
+    std::set<int> named(f["joints"].begin(), f["joints"].end());
+    if (code == "joint-swallows-rod" || code == "no-rod-left") {
+      for (const json& e : f["rods"]) {
+        named.insert(s.rods[e.get<std::size_t>()].a);
+        named.insert(s.rods[e.get<std::size_t>()].b);
+      }
+    } else if (code == "unbalanced") {
+      named.insert(b.ground_nodes.begin(), b.ground_nodes.end());
+    }
+    f["joints"] = named;
+  }
   timings["json_ms"] = ms_since(t1);
   return {{"name", d.name},
           {"parameters",
@@ -271,7 +289,7 @@ json preview_json(const Design& d) {
           {"frame", frame_out},
           {"assembly", steps_json(s, steps)},
           {"passed", !findings.has_errors()},
-          {"findings", findings_json(s, findings)},
+          {"findings", std::move(findings_out)},
           {"timings", timings}};
 }
 

@@ -465,6 +465,75 @@ try {
     await shot(p2, 'utilisation');
     await p.close(); await p2.close();
   });
+  await test('l rotate-and-scale-gizmo', async () => {
+    const p = await rodsPage('coffee_table.yaml');
+    await click(p, 'view-top');
+    // the four top joints and the middle one: a box around the top, inside the feet
+    await click(p, 'tool-box');
+    const a = await p.evaluate(() => window.__fabkit.screenOf([-275, 275, 420]));
+    const b = await p.evaluate(() => window.__fabkit.screenOf([275, -275, 420]));
+    await p.mouse.move(a.x, a.y); await p.mouse.down(); await p.mouse.move(b.x, b.y, { steps: 4 }); await p.mouse.up(); await idle(p);
+    const sel = (await p.evaluate(() => window.__fabkit.selection())).nodes.sort();
+    assert(JSON.stringify(sel) === JSON.stringify([0, 1, 2, 3, 8]), `box: ${sel}`);
+    await click(p, 'tool-select');
+    const nodes = async () => (await preview(p)).joints.map((j) => j.position);
+    const dist = (u, v) => Math.hypot(u[0] - v[0], u[1] - v[1], u[2] - v[2]);
+    const before = await nodes();
+    // rotate about z: drag the blue ring sideways (in perspective: three's rotate gizmo turns by
+    // the drag's length over the camera's distance, which is slow from an orthographic camera far away)
+    await click(p, 'view-iso');
+    await click(p, 'gizmo-rotate');
+    const h = await p.evaluate(() => window.__fabkit.gizmoHandle('Z'));
+    assert(h, 'no rotate ring');
+    await p.mouse.move(h.x, h.y);
+    assert((await p.evaluate(() => window.__fabkit.gizmoAxis())) === 'Z', `the pointer is on gizmo handle ${await p.evaluate(() => window.__fabkit.gizmoAxis())}, not the z ring`);
+    await p.mouse.down();
+    for (let k = 1; k <= 8; ++k) await p.mouse.move(h.x + k * 15, h.y + k * 4);
+    await p.mouse.up(); await idle(p);
+    const rotated = await nodes();
+    assert(sel.some((i) => dist(rotated[i], before[i]) > 10), 'the rotation moved nothing');
+    for (const i of sel) for (const j of sel) assert(Math.abs(dist(rotated[i], rotated[j]) - dist(before[i], before[j])) < 1e-3, `rotation changed a distance (${i}, ${j})`);
+    for (let i = 4; i < 8; ++i) assert(dist(rotated[i], before[i]) === 0, `foot ${i} moved`);
+    const angle = Math.atan2(rotated[0][1], rotated[0][0]) - Math.atan2(before[0][1], before[0][0]);
+    const deg = ((angle * 180) / Math.PI + 360) % 360;
+    assert(Math.abs(deg / 15 - Math.round(deg / 15)) < 1e-3, `not snapped to 15°: ${deg}°`);
+    await click(p, 'undo');
+    assert(JSON.stringify(await nodes()) === JSON.stringify(before), 'undo the rotation');
+    // scale along x: the red handle
+    await click(p, 'gizmo-scale');
+    const x = await p.evaluate(() => window.__fabkit.gizmoHandle('X'));
+    assert(x, 'no scale handle');
+    // drag outward, away from the gizmo's centre (the selection's centre)
+    const centre = sel.reduce((acc, i) => acc.map((v, k) => v + before[i][k] / sel.length), [0, 0, 0]);
+    const o = await p.evaluate((q) => window.__fabkit.screenOf(q), centre);
+    const ux = (x.x - o.x) / Math.hypot(x.x - o.x, x.y - o.y), uy = (x.y - o.y) / Math.hypot(x.x - o.x, x.y - o.y);
+    await p.mouse.move(x.x, x.y); await p.mouse.down();
+    for (let k = 1; k <= 6; ++k) await p.mouse.move(x.x + ux * k * 10, x.y + uy * k * 10);
+    await p.mouse.up(); await idle(p);
+    const scaled = await nodes();
+    const f = scaled[0][0] / before[0][0];
+    assert(f > 1.04, `x scale ${f}`);
+    for (const i of sel) {
+      assert(Math.abs(scaled[i][0] - before[i][0] * f) < 1e-3 && scaled[i][1] === before[i][1] && scaled[i][2] === before[i][2], `joint ${i + 1} not scaled along x by ${f}`);
+    }
+    await p.close();
+  });
+
+  await test('m acute-angle-explodes', async () => {
+    // two rods 1.9° apart at joint 01: its offsets g = (r + ε) / tan(θ / 2) outgrow the rods
+    const file = path.join(work, 'acute.yaml');
+    writeFileSync(file, 'fabkit: rods/1\nname: acute\nrod: {diameter: 12.7}\nnodes:\n  - [0, 0, 0]\n  - [300, 0, 0]\n  - [300, 10, 0]\n  - [0, 300, 0]\nedges:\n  - [1, 2]\n  - [1, 3]\n  - [2, 3]\n  - [1, 4]\n  - [3, 4]\n');
+    const p = await rodsPage();
+    await p.getByTestId('open-file').setInputFiles(file); await idle(p);
+    const pv = await preview(p);
+    assert(pv.joints[0].red && pv.joints[0].smallest_angle < 2, `joint 01: ${JSON.stringify({ red: pv.joints[0].red, angle: pv.joints[0].smallest_angle })}`);
+    assert((await colorOf(p, 'j0')) === 0xff0000, 'joint 01 is not drawn red');
+    const pt = await p.evaluate(() => window.__fabkit.pointOf('j0'));
+    await p.mouse.move(pt.x, pt.y);
+    const tip = await p.getByTestId('tooltip').textContent();
+    assert(/smallest angle 1\.9°/.test(tip) && /offsets [\d.]+ mm \(at joint 01\)/.test(tip) && tip.includes('leave no rod'), `hover: ${tip}`);
+    await p.close();
+  });
 } finally {
   await context.close();
   server.kill();

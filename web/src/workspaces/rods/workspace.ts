@@ -130,6 +130,8 @@ export class RodsWorkspace implements MountedWorkspace {
       screenOf: (p: Vec3) => this.screenOf(p),
       /** Client coordinates of a point on the gizmo's handle for `axis` ('X', 'Y', 'Z'), or null. */
       gizmoHandle: (axis: string) => this.gizmoHandle(axis),
+      /** The gizmo handle under the pointer ('X', 'XY', ...) or null. */
+      gizmoAxis: () => this.transform.axis,
       styleOf: (key: string) => {
         const m = scene.pieces.get(key); if (!m) return null;
         return { color: (m.material as THREE.MeshStandardMaterial).color.getHex(), visible: m.visible };
@@ -644,6 +646,14 @@ export class RodsWorkspace implements MountedWorkspace {
     const pickers = (this.transform as any)._gizmo?.picker?.[this.transform.mode] as THREE.Object3D | undefined;
     const found = pickers?.children.find((o) => o.name === axis) ?? null;
     if (!found) return null;
+    if (this.transform.mode === 'rotate' && (found as THREE.Mesh).geometry?.getAttribute('position')) {
+      // a point on the ring's centre line 45° from the other rings' axes (which can cover the
+      // ring where they cross it): between the torus' outer and inner vertex at that angle
+      const pos = (found as THREE.Mesh).geometry.getAttribute('position');
+      const outer = new THREE.Vector3().fromBufferAttribute(pos, 3), inner = new THREE.Vector3().fromBufferAttribute(pos, Math.min(pos.count - 1, 53));
+      const v = outer.add(inner).multiplyScalar(0.5).applyMatrix4(found.matrixWorld);
+      return this.screenOf([v.x, v.y, v.z]);
+    }
     const box = new THREE.Box3().setFromObject(found, true);
     const c = box.getCenter(new THREE.Vector3());
     return this.screenOf([c.x, c.y, c.z]);
