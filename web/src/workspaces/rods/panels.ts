@@ -197,7 +197,7 @@ export class Panels {
         row.append(`${axis} `, f, ' ');
       });
       b.append(row, el('span', { class: 'hint' }, 'mm'));
-      for (const i of nodes.slice(0, 1)) {
+      for (const i of nodes.length === 1 ? nodes : []) {
         const j = w.previewJoint(i);
         if (j) b.append(el('div', { class: 'hint' }, `${j.rods.length} rod${j.rods.length === 1 ? '' : 's'}, smallest angle ${j.smallest_angle.toFixed(1)}°, largest offset ${j.max_offset.toFixed(1)} mm`));
       }
