@@ -411,7 +411,7 @@ export class RodsWorkspace implements MountedWorkspace {
     const scene = this.ctx.scene;
     scene.clearLayer('rods-skeleton');
     const d = this.doc;
-    if (!d.edges.length) { if (render) scene.render(); return; }
+    if (!d.edges.length) { if (render) this.renderSoon(); return; }
     const pts: number[] = [];
     for (const [a, b] of d.edges) pts.push(...d.nodes[a], ...d.nodes[b]);
     const g = new THREE.BufferGeometry();
@@ -419,7 +419,7 @@ export class RodsWorkspace implements MountedWorkspace {
     const lines = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color: SKELETON_COLOR, transparent: true, opacity: 0.7 }));
     lines.raycast = () => {};
     scene.layer('rods-skeleton').add(lines);
-    if (render) scene.render();
+    if (render) this.renderSoon(); // a drag moves the pointer more often than frames are drawn
   }
 
   /** Selection states, the gizmo on the selected nodes, the panels. */
