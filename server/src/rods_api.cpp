@@ -388,9 +388,11 @@ void run_build(const std::shared_ptr<BuildJob>& job,
                             {"end_padding", design.parameters.stock.end_padding},
                             {"stock", stock}};
     }
+    // unique in the process too (several servers, e.g. in tests, number their jobs alike)
+    static std::atomic<long> builds{0};
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() /
-        fmt::format("fabkit-rods-build-{}-{}", static_cast<long>(getpid()), job->id);
+        fmt::format("fabkit-rods-build-{}-{}", static_cast<long>(getpid()), ++builds);
     Diagnostics io;
     std::error_code ec;
     std::filesystem::remove_all(dir, ec);
