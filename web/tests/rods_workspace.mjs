@@ -220,6 +220,8 @@ try {
     await p.mouse.move(s.x, s.y);
     const tip = await p.getByTestId('tooltip').textContent();
     assert(tip.includes('intersect') && tip.includes('mm'), `hover: ${tip}`);
+    // the joint numbers the messages use are drawn in the view (and can be hidden)
+    assert(await p.locator('[data-testid^=joint-number-]').count() === 8 && (await p.getByTestId('joint-number-4').textContent()) === '04', 'joint numbers');
     await shot(p, 'collision');
     // raise joint 04 by 150 mm: rod 03-04 passes above 05-06
     await clickPart(p, 'j3');
@@ -229,6 +231,8 @@ try {
     assert((await colorOf(p, `r${e34}`)) === 0xa0703c, 'rod 03-04 still red');
     assert(await p.getByTestId('collision-label').count() === 0, 'collision label stayed');
     // and back with undo
+    await click(p, 'show-numbers');
+    assert(await p.locator('[data-testid^=joint-number-]').count() === 0, 'joint numbers not hidden');
     await click(p, 'undo');
     assert((await preview(p)).intersections.length === 1, `undo did not bring the collision back:\n${await design(p)}\n${await p.getByTestId('undo').getAttribute('title')}`);
     await p.close();

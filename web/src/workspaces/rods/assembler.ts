@@ -41,6 +41,7 @@ export class Assembler {
     this.active = true; this.step = 0;
     w.transform.detach();
     w.ctx.scene.clearLayer('rods-checks'); // its labels are HTML: hiding the layer would leave them
+    w.ctx.scene.clearLayer('rods-numbers');
     for (const l of DESIGN_LAYERS) w.ctx.scene.layer(l).visible = false;
     this.redraw();
     this.ease(0);

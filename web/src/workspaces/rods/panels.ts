@@ -93,6 +93,10 @@ export class Panels {
     conn.checked = w.connectOnAdd;
     conn.addEventListener('change', () => { w.connectOnAdd = conn.checked; });
     b.append(el('div', { class: 'row' }, 'add at z ', z, ' mm ', el('label', {}, conn, ' connect to selected')));
+    const numbers = el('input', { type: 'checkbox', 'data-testid': 'show-numbers', title: 'Draw each joint\'s number (its engraved ID; rods are named by their two joints)' }) as HTMLInputElement;
+    numbers.checked = w.showNumbers;
+    numbers.addEventListener('change', () => { w.showNumbers = numbers.checked; w.drawNumbers(); w.ctx.scene.render(); });
+    b.append(el('div', { class: 'row' }, el('label', {}, numbers, ' joint numbers')));
   }
 
   // ---------------------------------------------------------------- parameters

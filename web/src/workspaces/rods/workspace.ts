@@ -11,7 +11,7 @@ import type { MountedWorkspace, ShellContext } from '../../shell/workspace';
 import { rodsApi } from './api';
 import type { Finding, Preview, RodsApi } from './api';
 import {
-  addNode, connect, deleteParts, isolatedNodes, jointKey, jointName, moveNodes, parseKey, rodKey, rodName, snap, snapToAxis, splitRod,
+  addNode, connect, deleteParts, isolatedNodes, jointKey, jointLabel, jointName, moveNodes, parseKey, rodKey, rodName, snap, snapToAxis, splitRod,
 } from './model';
 import type { RodsDesign } from './model';
 import { rodsToYaml } from './yamlio';
@@ -61,6 +61,8 @@ export class RodsWorkspace implements MountedWorkspace {
   connectOnAdd = true;
   workZ = 0;
   ramp = false;
+  /** Joint numbers drawn in the view (the names the checks and the cut list use). */
+  showNumbers = true;
   timings: EditTiming[] = [];
   readonly panels: Panels;
   readonly assembler: Assembler;
@@ -357,6 +359,7 @@ export class RodsWorkspace implements MountedWorkspace {
       scene.layer('rods-free').add(mesh);
       scene.pickable(mesh, jointKey(i), jointKey(i), JOINT_COLOR);
     }
+    this.drawNumbers();
     this.drawSkeleton(false);
     this.styleSelection(); // renders once
     this.assembler.redraw();
@@ -404,6 +407,16 @@ export class RodsWorkspace implements MountedWorkspace {
       scene.addLabel('rods-checks', new THREE.Vector3(c.x, c.y, z), b.stands ? `stands: margin ${b.margin.toFixed(1)} mm` : `tips over: ${(-b.margin).toFixed(1)} mm outside`,
         { class: b.stands ? 'ok' : 'failure-tag', 'data-testid': 'balance-label' });
     }
+  }
+
+  /** The joints' numbers (their engraved IDs), next to each joint. */
+  drawNumbers(): void {
+    const scene = this.ctx.scene;
+    scene.layer('rods-numbers'); // (clearLayer removes a layer's labels only once the layer exists)
+    scene.clearLayer('rods-numbers');
+    if (!this.showNumbers || this.assembler.active) return;
+    const d = this.doc;
+    d.nodes.forEach((p, i) => scene.addLabel('rods-numbers', new THREE.Vector3(...p), jointLabel(d, i), { class: 'rods-id', 'data-testid': `joint-number-${i + 1}` }));
   }
 
   /** Thin lines along the edges of the document shown: they follow a drag before the server answers. */
