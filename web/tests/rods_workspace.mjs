@@ -538,6 +538,23 @@ try {
     assert(/smallest angle 1\.9°/.test(tip) && /offsets [\d.]+ mm \(at joint 01\)/.test(tip) && tip.includes('leave no rod'), `hover: ${tip}`);
     await p.close();
   });
+  await test('n refused-edit-keeps-the-view', async () => {
+    const p = await rodsPage('guitar_stand.yaml');
+    const before = await preview(p);
+    // joint 02 onto joint 01: the library refuses the design (a zero-length rod); the view keeps
+    // the last good state and the banner quotes the library
+    await clickPart(p, 'j1');
+    await setField(p, 'node-x', before.joints[0].position[0]);
+    await setField(p, 'node-y', before.joints[0].position[1]);
+    await setField(p, 'node-z', before.joints[0].position[2]);
+    const msg = await p.getByTestId('message').textContent();
+    assert(/The library cannot make this design: design\.yaml:\d+:\d+: error: /.test(msg), `message: ${msg}`);
+    assert(await p.getByTestId('preview-error').count() === 1, 'no error in the Checks panel');
+    assert(JSON.stringify((await preview(p)).joints.map((j) => j.position)) === JSON.stringify(before.joints.map((j) => j.position)), 'the view did not keep the last good state');
+    await click(p, 'undo');
+    assert(!(await p.getByTestId('message').isVisible()) && await p.getByTestId('preview-error').count() === 0, 'undo did not clear the refusal');
+    await p.close();
+  });
 } finally {
   await context.close();
   server.kill();
