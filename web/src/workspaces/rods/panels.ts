@@ -240,7 +240,7 @@ export class Panels {
       const ramp = el('input', { type: 'checkbox', 'data-testid': 'ramp-toggle', title: 'Colour every rod by how much of its strength (or buckling load) it uses' }) as HTMLInputElement;
       ramp.checked = w.ramp;
       ramp.addEventListener('change', () => { w.ramp = ramp.checked; w.legend(); w.draw(); });
-      const sw = el('span', { class: 'swatch', style: `background:#${rampColor(f.max_utilisation).toString(16).padStart(6, '0')}` });
+      const sw = el('span', { class: 'rods-swatch', style: `background:#${rampColor(f.max_utilisation).toString(16).padStart(6, '0')}` });
       b.append(el('div', { 'data-testid': 'frame-summary' }, sw, ` structure: largest utilisation ${f.max_utilisation.toFixed(2)}${worst ? ` (${worst.name}, ${worst.governing})` : ''}, largest deflection ${f.max_deflection.toFixed(2)} mm`),
         el('label', {}, ramp, ' colour rods by utilisation'));
     }
