@@ -71,6 +71,7 @@ struct EditorServer::Impl {
     const ApiContext context{&options};
     std::vector<KitApi> kits;
     kits.push_back(hacks_api(context));
+    kits.push_back(rods_api(context));
     kits.push_back(templates_api(context));
     kits.push_back(flatpack_api(context));
     Json kit_names = Json::array();

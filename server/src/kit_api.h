@@ -48,6 +48,8 @@ struct KitApi {
 
 /// The hacks kit's routes (server/src/hacks_api.cpp).
 KitApi hacks_api(const ApiContext& context);
+/// The rods kit's routes (server/src/rods_api.cpp).
+KitApi rods_api(const ApiContext& context);
 /// The templates kit's routes (server/src/templates_api.cpp).
 KitApi templates_api(const ApiContext& context);
 /// The flatpack kit's routes (server/src/flatpack_api.cpp).

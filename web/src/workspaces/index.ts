@@ -2,7 +2,8 @@
 // "Adding a workspace"); the switcher offers it once the server also reports its kit.
 import type { WorkspaceModule } from '../shell/workspace';
 import { hacksWorkspace } from './hacks';
-import { templatesWorkspace } from './templates';
+import { rodsWorkspace } from './rods';
 import { flatpackWorkspace } from './flatpack';
+import { templatesWorkspace } from './templates';
 
-export const workspaces: WorkspaceModule[] = [hacksWorkspace, flatpackWorkspace, templatesWorkspace];
+export const workspaces: WorkspaceModule[] = [hacksWorkspace, rodsWorkspace, flatpackWorkspace, templatesWorkspace];
