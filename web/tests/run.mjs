@@ -406,6 +406,10 @@ try {
       if (byKit[k].disabled) assert(byKit[k].text.includes('not yet available'), `${k} label ${byKit[k].text}`);
     }
     for (const k of kits) assert(byKit[k], `server kit ${k} not listed`);
+    // All four kits have their workspace now (issues 14-16): none may be offered as unavailable.
+    for (const k of ['hacks', 'rods', 'flatpack', 'templates']) {
+      assert(kits.includes(k) && !byKit[k].disabled, `${k} is not available: ${JSON.stringify(byKit[k])}`);
+    }
     // a file of a kit without a workspace is refused with a message, the design is kept
     const unavailable = ['rods', 'flatpack', 'templates'].find((k) => byKit[k].disabled);
     if (unavailable) {
