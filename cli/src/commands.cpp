@@ -159,6 +159,7 @@ int run_serve(const ServeSettings& settings) {
   o.port = settings.port;
   if (std::filesystem::is_directory(FABKIT_WEB_DIR)) o.web_root = FABKIT_WEB_DIR;
   for (const std::string& f : settings.part_files) o.hacks_part_files.emplace_back(f);
+  o.allowed_hosts = settings.allowed_hosts;
   if (!settings.design.empty()) {
     Diagnostics d;
     const auto text = read_input_file(settings.design, "design file", d);

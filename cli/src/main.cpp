@@ -91,6 +91,10 @@ int main(int argc, char** argv) {
                    serve.host,
                    "address to listen on; other than loopback, other machines can connect")
       ->capture_default_str();
+  serve_cmd->add_option("--allow-host",
+                        serve.allowed_hosts,
+                        "another name this server may be reached under (e.g. myhost.lan); by "
+                        "default it answers only to its address (and localhost)");
 
   BurnTestSettings burn;
   CLI::App* flatpack_cmd =

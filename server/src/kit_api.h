@@ -8,6 +8,7 @@
 // clang-format off
 #include "fabkit/core/json.h"
 #include "fabkit/server/editor_server.h"
+#include "job_queue.h"
 
 #include <httplib.h>
 // clang-format on
@@ -19,10 +20,11 @@
 
 namespace fabkit::server {
 
-/// What every kit's handlers may use: the server's options and its deadlines.
+/// What every kit's handlers may use: the server's options, its deadlines and its job queue.
 struct ApiContext {
   const ServerOptions* options = nullptr;
-  /// When a request started now must be finished (options.solve_timeout_s).
+  JobQueue* jobs = nullptr;
+  /// When work started now must be finished (options.solve_timeout_s).
   std::chrono::steady_clock::time_point deadline() const {
     return std::chrono::steady_clock::now() +
            std::chrono::milliseconds(static_cast<long long>(options->solve_timeout_s * 1000));
@@ -63,5 +65,20 @@ void reply_error(httplib::Response& res,
 int http_status(const Diagnostics& diags);
 /// The error messages of `d`, one per line (for the "error" field).
 std::string messages_of(const Diagnostics& d);
+/// `text` with every absolute path of two or more components cut to its last one
+/// ("cannot read '/home/me/parts/x.yaml'" → "cannot read 'x.yaml'"): no answer tells a page
+/// where files are on this machine.
+std::string without_machine_paths(std::string_view text);
+/// A JSON job answer (paths removed), and one for errors ({"error": message, "diagnostics":
+/// [...]}).
+JobAnswer json_answer(int status, const Json& body);
+JobAnswer error_answer(int status,
+                       const std::string& message,
+                       const Json& diagnostics = Json::array());
+
+/// Runs `work` on the job queue (heavy work: checks, solves) and answers with its result; 503
+/// when the queue is full. The request's thread only waits, and stops waiting (the job is then
+/// not started) when its client leaves.
+void answer_from_job(const ApiContext& context, httplib::Response& res, JobQueue::Work work);
 
 }  // namespace fabkit::server

@@ -45,6 +45,9 @@ async function json<T>(res: Response): Promise<T> {
 }
 
 const base = 'api';
+// The server reads design bodies only with a YAML (or JSON) type: a plain-text POST is what any
+// web page may send to 127.0.0.1 without asking (docs/security.md).
+const yamlBody = (yaml: string): RequestInit => ({ method: 'POST', headers: { 'Content-Type': 'application/x-yaml' }, body: yaml });
 export const api = {
   parts: async (): Promise<PartInfo[]> => json(await fetch(`${base}/parts`)),
   mesh: async (part: string, params?: Record<string, number>): Promise<PartMesh> => {
@@ -61,10 +64,10 @@ export const api = {
     const res = await fetch(`${base}/design`);
     return res.ok ? res.text() : null;
   },
-  check: async (yaml: string): Promise<CheckResult> => json(await fetch(`${base}/check`, { method: 'POST', body: yaml })),
-  solve: async (yaml: string): Promise<SolveResult> => json(await fetch(`${base}/solve`, { method: 'POST', body: yaml })),
+  check: async (yaml: string): Promise<CheckResult> => json(await fetch(`${base}/check`, yamlBody(yaml))),
+  solve: async (yaml: string): Promise<SolveResult> => json(await fetch(`${base}/solve`, yamlBody(yaml))),
   solveGlb: async (yaml: string): Promise<Blob> => {
-    const res = await fetch(`${base}/solve?format=glb`, { method: 'POST', body: yaml });
+    const res = await fetch(`${base}/solve?format=glb`, yamlBody(yaml));
     if (!res.ok) await json(res);
     return res.blob();
   },
