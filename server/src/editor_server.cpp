@@ -422,6 +422,7 @@ bool EditorServer::bind() {
     return false;
   }
   impl_->host_policy.port = impl_->port;
+  impl_->http->widen_listen_backlog();
   return true;
 }
 

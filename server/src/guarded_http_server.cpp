@@ -221,6 +221,10 @@ GuardedHttpServer::GuardedHttpServer(ConnectionLimits limits) : limits_(limits) 
   set_keep_alive_max_count(static_cast<std::size_t>(std::max(1, limits_.keep_alive_requests)));
 }
 
+void GuardedHttpServer::widen_listen_backlog() {
+  if (svr_sock_ != INVALID_SOCKET) ::listen(svr_sock_, std::max(128, limits_.max_open));
+}
+
 bool GuardedHttpServer::client_gone() {
   if (!t_connection || t_connection->sock < 0) return false;
   char c;

@@ -37,6 +37,10 @@ class GuardedHttpServer : public httplib::Server {
   /// and fuzzing: no sockets); returns the raw response bytes.
   std::string answer_raw(std::string_view request, const std::string& remote_ip = "127.0.0.1");
 
+  /// After binding: a listen backlog as long as the connection limit (httplib's is 5, so a burst
+  /// of clients had connections dropped and retried after a second).
+  void widen_listen_backlog();
+
   /// Connections open now.
   int open_connections() const { return open_.load(); }
 
