@@ -2,6 +2,7 @@
 #include "kit_api.h"
 
 // clang-format off
+#include "fabkit/hacks/deadline.h"
 #include "fabkit/hacks/design_file.h"
 #include "fabkit/hacks/parts_library.h"
 #include "fabkit/hacks/solution_export.h"
@@ -317,11 +318,13 @@ KitApi hacks_api(const ApiContext& context) {
                   {"type", d.assembly.node(PartId{i}).part->type_name},
                   {"frame", to_json(Frame::from_matrix(frames[static_cast<std::size_t>(i)]))}});
            }
-           return json_answer(200,
-                              {{"valid", d.feasible()},
-                               {"steps", steps},
-                               {"parts", parts},
-                               {"diagnostics", to_json(d.diagnostics)}});
+           return json_answer(
+               200,
+               {{"valid", d.feasible()},
+                {"stopped_at_deadline", d.diagnostics.has_errors_of(DiagnosticClass::kTimeout)},
+                {"steps", steps},
+                {"parts", parts},
+                {"diagnostics", to_json(d.diagnostics)}});
          });
        }});
 
@@ -333,15 +336,20 @@ KitApi hacks_api(const ApiContext& context) {
            const Design d = load(context, *library, body, limit);
            if (auto refused = reject_input(d)) return *refused;
            if (!d.feasible()) {
-             return error_answer(422, "the design cannot be built", to_json(d.diagnostics));
+             const int status = http_status(d.diagnostics);
+             return error_answer(status,
+                                 status == 503 ? messages_of(d.diagnostics)
+                                               : std::string("the design cannot be built"),
+                                 to_json(d.diagnostics));
            }
            SolveOptions so;
            so.deadline = limit;
            const SolveResult r = solve(d.assembly, so);
            if (r.termination == Termination::kTimeout) {
              return error_answer(503,
-                                 fmt::format("the solve took longer than {:g} s and was stopped",
-                                             context.options->solve_timeout_s));
+                                 fmt::format("the solve took longer than {:g} s: {}",
+                                             context.options->solve_timeout_s,
+                                             stopped_at_deadline(r, so)));
            }
            if (glb) {
              Diagnostics dg;

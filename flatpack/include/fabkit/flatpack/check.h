@@ -23,6 +23,8 @@ struct CheckOptions {
   double min_joint_length_mm = 0.5;  ///< shorter intersections are contacts, not joints
   bool assembly_order = true;        ///< look for a press-fit order
   int max_components = 2000;         ///< refuse larger designs (limit-exceeded)
+  /// Stop between stages once this has passed (a time-limit error names the last stage done).
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 struct StageTiming {
