@@ -244,3 +244,44 @@ def test_time_limits_stop_every_kit_with_the_iterations_done():
     assert time.monotonic() - started < 30
     # Generous limits change nothing.
     assert design.assembly.solve(time_limit=600).stable
+
+
+def test_every_save_refuses_a_fifo_and_keeps_it(tmp_path):
+    # Every kit's writers, from Python: through the same atomic writer as the command line.
+    def fifo(name):
+        p = tmp_path / name
+        os.mkfifo(p)
+        return p
+
+    nook = hacks.load_design(EXAMPLES / "hacks/bird_feeder.yaml").assembly.solve()
+    s = rods.Structure(nodes=[[0, 0, 0], [300, 0, 0], [0, 300, 0], [0, 0, 300]],
+                       edges=[(0, 1), (0, 2), (0, 3), (1, 2), (2, 3), (3, 1)])
+    built = s.build(engrave=False)
+    out = tmp_path / "rods_out"
+    out.mkdir()
+    os.mkfifo(out / "report.json")
+    model = templates.load(EXAMPLES / "templates/table_with_shelf.yaml")
+    tout = tmp_path / "templates_out"
+    tout.mkdir()
+    os.mkfifo(tout / "bom.csv")
+    saves = [
+        ("result.json", lambda p: nook.save_json(str(p))),
+        ("scene.glb", lambda p: nook.save_glb(str(p))),
+        ("joint.stl", lambda p: built._r.save_joint_stl(0, str(p))),
+        ("board.stl", lambda p: rods.tolerance_board(str(p))),
+        ("catalog.sqlite", lambda p: _fabkit.templates.Catalog.bundled().save_as(str(p))),
+    ]
+    for name, save in saves:
+        p = fifo(name)
+        with pytest.raises(fabkit.WriteError, match="not a regular file"):
+            save(p)
+        assert p.is_fifo(), name
+    with pytest.raises(fabkit.WriteError, match="not a regular file"):
+        built.save(out)
+    assert (out / "report.json").is_fifo()
+    with pytest.raises(fabkit.WriteError, match="not a regular file"):
+        model.build(tout)
+    assert (tout / "bom.csv").is_fifo()
+    # And a catalog saved to a plain file opens again.
+    _fabkit.templates.Catalog.bundled().save_as(str(tmp_path / "c.sqlite"))
+    assert len(_fabkit.templates.Catalog.open(str(tmp_path / "c.sqlite"))) == len(_fabkit.templates.Catalog.bundled())
