@@ -466,6 +466,20 @@ ConnectionId Assembly::record_connection(ConnectPlan& plan, const ConnectOptions
   std::vector<ParamSpec> params2 = p2.connector_params();
   shape_connector_params(p1, p2, plan.closes_cycle, options.fixed, params1, params2);
   const AlignmentOffset align = alignment_offset(p1.connector_kind(), p2.connector_kind());
+  // Where around a rod the contact starts: on top, seen in the world, for a rod whose part is
+  // placed already, so that the start does not depend on how the rod happens to be spun.
+  auto start_on_top = [&](PartId part, const Primitive& prim, std::vector<ParamSpec>& params) {
+    if (prim.connector_kind() != ConnectorKind::kRod || params.size() < 3 || params[2].constant) {
+      return;
+    }
+    // (part_frame climbs only this part's tree path: a part coming in is not on it.)
+    const Mat3 r =
+        part_frame<double>(part, values_.data()).R * prim.frame.matrix().topLeftCorner<3, 3>();
+    if (std::hypot(r(2, 0), r(2, 1)) < 1e-9) return;  // a vertical rod has no top
+    params[2].init = wrap_360(std::atan2(-r(2, 0), r(2, 1)) * kRadToDeg);
+  };
+  start_on_top(plan.first_part, p1, params1);
+  if (plan.closes_cycle) start_on_top(plan.second_part, p2, params2);
 
   const ConnectionId id{static_cast<int>(connections_.size())};
   Connection conn;
@@ -675,6 +689,40 @@ std::string Assembly::describe_cycle(ConnectionId closing) const {
     out += items[i];
   }
   return out;
+}
+
+std::string Assembly::structural_key(PartId id) const {
+  const PartNode& n = parts_.at(id.index());
+  // A primitive by what it is, not by what a design calls it: an environment's primitives
+  // are named by the design ("door" in one program, "rod" in the file that means the same), so
+  // they are keyed by type and place in the environment; a part's come from the part itself.
+  auto primitive_tag = [&](const PartNode& owner, PrimitiveId prim) {
+    const Primitive& p = owner.part->primitive(prim);
+    if (!owner.environment) return p.name;
+    return fmt::format("{}@{}", to_string(p.type), prim.value);
+  };
+  const ConnectionId up = parent(id);
+  if (!up.valid()) {
+    // An environment: its type and its primitives' types (two loose-primitive environments
+    // differ).
+    std::string key = n.part->type_name + "{";
+    for (const Primitive& p : n.part->primitives) key += std::string(to_string(p.type)) + ",";
+    return key + "}";
+  }
+  const Connection& c = connection(up);
+  return structural_key(c.first.part) + ">" +
+         primitive_tag(parts_.at(c.first.part.index()), c.first.primitive) + "|" +
+         n.part->type_name + "." + primitive_tag(n, c.second.primitive);
+}
+
+std::string Assembly::parameter_key(int index) const {
+  const ParamInfo& p = params_.at(static_cast<std::size_t>(index));
+  const Connection& c = connection(p.connection);
+  const bool first = index < c.first.offset + static_cast<int>(c.first.params.size());
+  const std::string where = c.closes_cycle
+                                ? structural_key(c.first.part) + "~" + structural_key(c.second.part)
+                                : structural_key(c.second.part);
+  return fmt::format("{}#{}{}", where, first ? "a." : "b.", p.spec.name);
 }
 
 void Assembly::set_values(std::vector<double> x) {

@@ -134,6 +134,9 @@ Part param_turnbuckle(const ParamValues& v) {
   const double hook_y = 6 + 10 + 27.5 + v.at("extended_length") / 2;
   auto h1 = hook("hook1", 5.75, 220, 1.5, {2, hook_y, 0}, {175, 90, 0});
   auto h2 = flex(hook("hook2", 5.75, 220, 1.5, {-2, -hook_y, 0}, {355, 90, 0}));
+  // The θ = 220° ends join the screws: only the tips are open (as Turnbuckle in parts.yaml).
+  h1.open_ends = {true, false};
+  h2.open_ends = {true, false};
   // The screws slide out of the body, so the mass stays 1699.8 for every extension.
   return assemble({h1, h2}, turnbuckle_body(h1, h2), 1699.8);
 }
@@ -152,6 +155,7 @@ Part param_hanger_geometry(const ParamValues& v) {
   }
   const double hook_r = v.at("hook_d") / 2;
   auto h1 = hook("hook1", hook_r, 180, bar_r, {0, 0, v.at("hook_h") - hook_r - bar_r}, {-45, 0, 0});
+  h1.open_ends = {true, false};  // its upper end runs into the neck
   auto r = closed(rod("rod", bar_r, rod_l, {0, 0, -110}, {-90, 180, 0}));
   auto h2 = closed(hook("hook2", bend_r, 160, bar_r, {0, bottom_l, -97.5}, {160, 0, 0}));
   auto h3 = closed(hook("hook3", bend_r, 160, bar_r, {0, -bottom_l, -97.5}, {0, 0, 0}));

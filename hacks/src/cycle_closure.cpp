@@ -16,6 +16,9 @@ namespace fabkit::hacks::detail {
 namespace {
 
 struct Layout {
+  /// Variables only the newest closure moves (not on the path of a closure made before):
+  /// random starts explore these and keep the cycles already closed as they are.
+  std::set<int> newest_only;
   std::vector<ConnectionId> closures;
   std::vector<std::optional<Vec3>> free_axes;
   std::vector<MultiConnectionPair> multi;
@@ -40,14 +43,21 @@ Layout make_layout(const Assembly& a) {
       p = up.first.part;
     }
   };
-  for (ConnectionId id : a.cycle_connections()) {
+  const std::vector<ConnectionId> cycles = a.cycle_connections();
+  std::set<int> earlier;
+  for (std::size_t k = 0; k < cycles.size(); ++k) {
+    const ConnectionId id = cycles[k];
     const Connection& c = a.connection(id);
     layout.closures.push_back(id);
     layout.free_axes.push_back(free_rotation_axis(a, id));
+    if (k + 1 == cycles.size()) earlier = vars;
     add_connector(c.first);
     add_connector(c.second);
     add_path(c.first.part);
     add_path(c.second.part);
+  }
+  for (int v : vars) {
+    if (!earlier.count(v)) layout.newest_only.insert(v);
   }
   for (const MultiConnectionPair& m : multi_connection_pairs(a)) {
     bool touches = false;
@@ -66,6 +76,9 @@ struct ClosureCost {
   // Weight of the orientation residuals: a start first closes the gap in position with
   // orientation loosely held, then closes orientation fully (fewer local minima).
   double rotation_weight = 1.0;
+  // Per closure, a position gap the residual leaves open (mm): the drag start closes a chain
+  // by pulling its end to the anchor in small steps (drag_gap shrinking to 0).
+  std::vector<Vec3> drag_gap;
 
   int residual_count() const {
     return static_cast<int>(layout->closures.size()) * kClosureResiduals +
@@ -82,6 +95,9 @@ struct ClosureCost {
     T* out = residuals;
     for (std::size_t c = 0; c < layout->closures.size(); ++c) {
       closure_residuals<T>(*assembly, layout->closures[c], layout->free_axes[c], x.data(), out);
+      if (!drag_gap.empty()) {
+        for (int i = 0; i < 3; ++i) out[i] -= T(drag_gap[c][i]);
+      }
       if (rotation_weight != 1.0) {
         for (int i = 3; i < kClosureResiduals; ++i) out[i] *= T(rotation_weight);
       }
@@ -263,7 +279,6 @@ ClosureResult close_cycles(const Assembly& assembly,
     problem.SetParameterUpperBound(z.data(), static_cast<int>(k), s.hi);
   }
 
-  detail::SplitMix rng(options.seed);
   double best = std::numeric_limits<double>::infinity();
   auto keep_if_best = [&] {
     const double c = cost_at(*functor, z);
@@ -295,19 +310,60 @@ ClosureResult close_cycles(const Assembly& assembly,
       const ParamSpec& s = assembly.parameters()[static_cast<std::size_t>(v)].spec;
       if (start == 0) {
         // The current configuration, kept inside its bounds: earlier cycles are closed there.
+        double val = x0[static_cast<std::size_t>(v)] +
+                     symmetry_nudge(options.seed, assembly.parameter_key(v), s.hi - s.lo);
+        if (s.tag != ParamTag::kUnbounded) val = std::clamp(val, s.lo, s.hi);
+        z[k] = val;
+      } else if (layout.newest_only.empty() || layout.newest_only.count(v) || start % 2 == 0) {
+        // Odd starts explore only what the newest cycle adds, keeping the cycles closed
+        // before as they are; even starts explore everything.
+        z[k] = s.lo + keyed_uniform(options.seed, start, assembly.parameter_key(v)) * (s.hi - s.lo);
+      } else {
         double val = x0[static_cast<std::size_t>(v)];
         if (s.tag != ParamTag::kUnbounded) val = std::clamp(val, s.lo, s.hi);
         z[k] = val;
-      } else {
-        z[k] = s.lo + rng.uniform() * (s.hi - s.lo);
       }
     }
+  };
+
+  // The drag start: from the current configuration, pull each open end to its anchor along a
+  // straight line in small steps, as a person would pull a chain taut, then close fully. Long
+  // chains whose random starts fold up close this way (a 16-hook span the random starts miss).
+  auto drag = [&] {
+    load_start(0);
+    std::vector<double> x(x0);
+    for (std::size_t k = 0; k < m; ++k) x[static_cast<std::size_t>(layout.variables[k])] = z[k];
+    std::vector<Vec3> gap0;
+    for (ConnectionId id : layout.closures) {
+      const auto [f1, f2] = assembly.connection_frames<double>(id, x.data());
+      gap0.push_back(f1.t - f2.t);
+    }
+    // Steps of about 20 mm: each fit starts close to its answer.
+    double longest = 0;
+    for (const Vec3& g : gap0) longest = std::max(longest, g.norm());
+    const int steps = std::clamp(static_cast<int>(std::ceil(longest / 20.0)), 8, 100);
+    const int saved = solver_options.max_num_iterations;
+    solver_options.max_num_iterations = 15;
+    for (int step = 1; step <= steps; ++step) {
+      const double keep = 1.0 - static_cast<double>(step) / steps;
+      functor->drag_gap.clear();
+      for (const Vec3& g : gap0) functor->drag_gap.push_back(keep * g);
+      // Orientation matters more as the end arrives: it is aligned by the time it is there.
+      solve(kPhaseOneRotationWeight + (1 - kPhaseOneRotationWeight) * (1 - keep) * (1 - keep));
+      if (options.deadline && std::chrono::steady_clock::now() > *options.deadline) break;
+    }
+    functor->drag_gap.clear();
+    solver_options.max_num_iterations = saved;
+    solve(kPhaseOneRotationWeight);
+    solve(1.0);
+    return keep_if_best();
   };
 
   const int starts = std::max(1, options.restarts);
   for (int start = 0; start < starts; ++start) {
     if (options.deadline && std::chrono::steady_clock::now() > *options.deadline) break;
     result.starts = start + 1;
+    if (start == 2 && drag()) break;
     load_start(start);
     if (start == 0 && layout.closures.size() > 1) {
       // From the current configuration a direct solve keeps the cycles closed earlier.

@@ -71,6 +71,10 @@ double max_gap(const Assembly& a, const std::vector<double>& x, double* deg = nu
 enum class Objective {
   kTarget,  ///< step 1: the target's pose residuals (least squares)
   kEnergy,  ///< step 2: the mean height of the centres of mass (mm)
+  /// Between the steps: the mean height, with the target held where the problem's target
+  /// goal is (its pose residuals join the equalities): the rest of the hack settles as it
+  /// would while a hand holds the target where step 1 put it.
+  kEnergyHoldingTarget,
 };
 
 // [objective rows..., closure equalities..., multi-connection inequalities (≤ 0)...],
@@ -82,10 +86,14 @@ struct ManifoldCost {
   Objective objective;
 
   int objective_count() const { return objective == Objective::kTarget ? kTargetResiduals : 1; }
-  int equality_count() const {
+  bool holds_target() const { return objective == Objective::kEnergyHoldingTarget; }
+  int closure_equality_count() const {
     int n = 0;
     for (const auto& axis : problem->free_axes) n += axis ? 5 : 6;
     return n;
+  }
+  int equality_count() const {
+    return closure_equality_count() + (holds_target() ? kTargetResiduals : 0);
   }
   int residual_count() const {
     return objective_count() + equality_count() + static_cast<int>(problem->multi.size());
@@ -128,6 +136,11 @@ struct ManifoldCost {
         *eq++ = (rel(0, 2) - rel(2, 0)) * T(0.5 * kRadToDeg);
         *eq++ = (rel(1, 0) - rel(0, 1)) * T(0.5 * kRadToDeg);
       }
+    }
+    if (holds_target()) {
+      target_residuals<T>(
+          *problem->target, frames[static_cast<std::size_t>(problem->target->part.value)], eq);
+      eq += kTargetResiduals;
     }
     for (const MultiConnectionPair& m : problem->multi) {
       *eq++ = -multi_connection_value<T>(m, x.data());
@@ -223,7 +236,10 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     }
     const int no = cost_.objective_count();
     std::optional<Rigid<double>> target_frame;
-    if (objective_ == Objective::kTarget) {
+    // Where the target's rows are: the objective (step 1) or after the closures (held).
+    const int target_row =
+        objective_ == Objective::kTarget ? 0 : no + cost_.closure_equality_count();
+    if (objective_ != Objective::kEnergy) {
       target_frame =
           frames[static_cast<std::size_t>(problem_.target->part.value)].then(problem_.target->base);
     }
@@ -249,7 +265,7 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
           return std::find(moving.begin(), moving.end(), part) != moving.end();
         };
         // Objective rows.
-        if (objective_ == Objective::kEnergy) {
+        if (objective_ != Objective::kTarget) {
           double dz = 0;
           for (int q : moving) {
             const double m = problem_.masses[static_cast<std::size_t>(q)];
@@ -259,8 +275,10 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
             dz += m / problem_.total_mass * tau.velocity(com).z();
           }
           put(0, dz);
-        } else if (moves(problem_.target->part.value)) {
-          target_derivative(*target_frame, tau, [&](int row, double v) { put(row, v); });
+        }
+        if (target_frame && moves(problem_.target->part.value)) {
+          target_derivative(
+              *target_frame, tau, [&](int row, double v) { put(target_row + row, v); });
         }
         // Closure rows.
         int row = no;

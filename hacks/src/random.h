@@ -2,6 +2,7 @@
 // Seeded random numbers that are the same on every platform (std distributions are not).
 
 #include <cstdint>
+#include <string_view>
 
 namespace fabkit::hacks::detail {
 
@@ -20,5 +21,24 @@ class SplitMix {
  private:
   std::uint64_t state_;
 };
+
+/// A uniform number in [0, 1) that depends only on `seed`, `start` and a name: the random
+/// start a parameter gets is the same whatever its index in the assembly's vector, so the
+/// order in which a design makes its connects does not change which starts are tried.
+inline double keyed_uniform(std::uint64_t seed, int start, std::string_view key) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+  for (unsigned char c : key) h = (h ^ c) * 1099511628211ull;
+  SplitMix rng(seed ^ h ^ (static_cast<std::uint64_t>(start) * 0x9E3779B97F4A7C15ull));
+  rng.uniform();
+  return rng.uniform();
+}
+
+/// A tiny, seeded nudge of a parameter (a millionth of its range): symmetric starts (a hook
+/// exactly in the middle of its tilt range) leave the search to round-off, which differs with
+/// the world's placement or a file's spelling of an angle; a nudge keyed by the parameter's name
+/// breaks the tie the same way every time.
+inline double symmetry_nudge(std::uint64_t seed, std::string_view key, double range) {
+  return 1e-6 * range * (keyed_uniform(seed, -1, key) - 0.5);
+}
 
 }  // namespace fabkit::hacks::detail

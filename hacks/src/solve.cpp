@@ -148,6 +148,11 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     out.verdict = check_stability(problem, vars, out.x, options);
     return out;
   };
+  // Two step-1 errors that are the same to the solver's precision.
+  auto as_near = [](const PoseError& a, const PoseError& b) {
+    return std::abs(a.position_mm - b.position_mm) < 1e-4 &&
+           std::abs(a.rotation_deg - b.rotation_deg) < 1e-4;
+  };
   auto holds = [](const GroupOutcome& g) {
     return g.verdict.slips.empty() && g.verdict.equilibrium_residual <= kEquilibriumTolerance &&
            !(g.movable && g.verdict.smallest_curvature < -g.verdict.neutral_threshold);
@@ -181,15 +186,22 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
         best_error = error;
         chosen_candidate = static_cast<int>(c);
       }
-      if (holds(*best) && c == 0) break;  // the nearest start holds: nothing to choose
+      // Once one holds, only the candidates as near the target as the nearest are worth
+      // relaxing: which of those equally near configurations comes first is an accident of
+      // the starts (the order of the connects, round-off), and each may rest differently.
+      const bool next_as_near = c + 1 < step1.candidates.size() &&
+                                as_near(step1.candidates[c + 1].error, step1.candidates[0].error);
+      if (holds(*best) && !next_as_near) break;
     }
     if (best) outcomes[static_cast<std::size_t>(g)] = std::move(*best);
   }
   if (target_group >= 0 && chosen_candidate > 0) {
-    // Step 1's reported result is the start that relaxed into the answer.
+    // Step 1's reported result is the start that relaxed into the answer, and what step 2
+    // does not move (fixed joints, where a part sits on a surface) comes from it too.
     const Step1Result::Candidate& c = step1.candidates[static_cast<std::size_t>(chosen_candidate)];
     result.step1_parameters = c.x;
     result.target_step1 = c.error;
+    x = c.x;
   }
   bool curved_down = false;  // a group rests where the potential curves down: not a minimum
   bool any_curvature = false;

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "random.h"
 #include "steps.h"
@@ -10,6 +11,42 @@ namespace {
 PoseError error_at(const Problem& p, const std::vector<double>& x) {
   const std::vector<Mat4> frames = p.assembly->part_frames(x);
   return pose_error(*p.target, Rigid<double>::from_matrix(frames[p.target->part.index()]));
+}
+
+// Whether two configurations put every part in the same place (within 1e-3 mm and 1e-6 rad).
+bool same_poses(const std::vector<Mat4>& a, const std::vector<Mat4>& b) {
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if ((a[i].topRightCorner<3, 1>() - b[i].topRightCorner<3, 1>()).norm() > 1e-3) return false;
+    if ((a[i].topLeftCorner<3, 3>() - b[i].topLeftCorner<3, 3>()).norm() > 1e-6) return false;
+  }
+  return true;
+}
+
+// With the target held where a start left it, the rest of the hack settles under gravity:
+// the choices step 1 is free to make at no cost to the target (where along a rod an eye hook
+// is screwed in, how a loop turns) go where the weight takes them. Which of those equally
+// good configurations a start ends in is an accident of the start (of the order of the
+// connects); where they settle is not.
+std::vector<double> settle(const Problem& p,
+                           const Variables& vars,
+                           const std::vector<double>& x,
+                           const SolveOptions& o) {
+  if (p.total_mass <= 0) return x;
+  Problem held = p;
+  const Rigid<double> now =
+      Rigid<double>::from_matrix(p.assembly->part_frames(x)[p.target->part.index()])
+          .then(p.target->base);
+  held.target->goal = now;
+  held.target->goal_turned = now;
+  AssemblySolver solver(held, vars, x, Objective::kEnergyHoldingTarget, o.deadline);
+  const StepResult r = solver.relax(x, o.max_iterations);
+  if (!r.closed) return x;
+  // Settling must not move the target (the projection holds it to round-off).
+  const PoseError moved =
+      pose_error(*held.target,
+                 Rigid<double>::from_matrix(p.assembly->part_frames(r.x)[p.target->part.index()]));
+  if (moved.position_mm > 1e-6 || moved.rotation_deg > 1e-6) return x;
+  return r.x;
 }
 
 }  // namespace
@@ -31,15 +68,35 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     return e.position_mm * e.position_mm + e.rotation_deg * e.rotation_deg;
   };
   double best_score = score(best.error);
-  SplitMix rng(o.seed);
+  std::vector<std::vector<Mat4>> seen_frames;
   for (int start = 0; start < std::max(1, o.target_starts); ++start) {
-    // Nothing can beat a target that is already reached.
-    if (best.error.position_mm < kTargetReached && best.error.rotation_deg < kTargetReached) break;
+    // Nothing can come nearer a target that is already reached, but the half-turn start may
+    // reach it too in a configuration that holds where this one does not: it is still tried.
+    if (best.error.position_mm < kTargetReached && best.error.rotation_deg < kTargetReached) {
+      if (start > 2) break;
+      start = 2;
+    }
     std::vector<double> x0 = a.values();
-    if (start > 0) {
+    if (start <= 2) {
       for (int v : vars.index) {
         const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
-        x0[static_cast<std::size_t>(v)] = s.lo + rng.uniform() * (s.hi - s.lo);
+        double& x = x0[static_cast<std::size_t>(v)];
+        x += symmetry_nudge(o.seed, a.parameter_key(v), s.hi - s.lo);
+        if (s.tag != ParamTag::kUnbounded) x = std::clamp(x, s.lo, s.hi);
+        // Start 2 turns every unbounded angle half a turn from the verified configuration:
+        // the other way to thread a cord through a ring or to hang a part on a rod, a
+        // discrete choice no local fit crosses and a lucky draw should not be needed for.
+        if (start == 2 && s.tag == ParamTag::kUnbounded) x += 180.0;
+      }
+    } else {
+      // Even starts draw every parameter; odd ones only the unbounded angles (how a ring is
+      // threaded, which way a part spins about a rod), keeping the rest as verified: the
+      // choices a local fit cannot change by itself.
+      for (int v : vars.index) {
+        const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
+        if (start % 2 == 1 && s.tag != ParamTag::kUnbounded) continue;
+        x0[static_cast<std::size_t>(v)] =
+            s.lo + keyed_uniform(o.seed, start, a.parameter_key(v)) * (s.hi - s.lo);
       }
     }
     if (o.deadline && std::chrono::steady_clock::now() > *o.deadline) break;
@@ -54,23 +111,55 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
       if (!closed.closed) continue;
       x0 = closed.x;
     }
+    // Start 1 drags the target: from where the verified configuration puts it to the goal in
+    // small steps, each a short fit from the last, as a hand would guide it there. It does not
+    // depend on luck, and finds goals the direct fit and the random starts miss.
+    if (start == 1) {
+      std::vector<double> x = a.values();
+      const Rigid<double> from =
+          a.all_part_frames<double>(x.data())[p.target->part.index()].then(p.target->base);
+      const Eigen::Quaterniond q0(from.R);
+      const Eigen::Quaterniond q1(p.target->goal.R);
+      constexpr int kSteps = 8;
+      for (int k = 1; k <= kSteps; ++k) {
+        const double s = static_cast<double>(k) / kSteps;
+        Problem towards = p;
+        towards.target->goal.t = (1 - s) * from.t + s * p.target->goal.t;
+        towards.target->goal.R = q0.slerp(s, q1).toRotationMatrix();
+        towards.target->goal_turned = towards.target->goal;
+        if (towards.target->symmetry.half_turn_axis) {
+          towards.target->goal_turned.R =
+              towards.target->goal.R *
+              Eigen::AngleAxisd(std::numbers::pi, *towards.target->symmetry.half_turn_axis);
+        }
+        AssemblySolver guide(towards, vars, x, Objective::kTarget, o.deadline);
+        const StepResult r = guide.fit(x, k == kSteps ? o.max_iterations : 20);
+        if (!r.closed) break;
+        x = r.x;
+      }
+      x0 = x;
+    }
     // Random starts explore: a fifth of the iterations of the verified start, and they stop
     // early when they are far from beating the best start so far (f = ½‖r‖²).
-    StepResult r = start == 0 ? solver.fit(x0, o.max_iterations)
+    StepResult r = start <= 1 ? solver.fit(x0, o.max_iterations)
                               : solver.fit(x0, o.max_iterations / 5, 5 * best_score);
     best.starts = start + 1;
     if (!r.closed) continue;
     for (std::size_t i = 0; i < r.x.size(); ++i) {
       if (a.parameters()[i].spec.tag == ParamTag::kUnbounded) r.x[i] = wrap_360(r.x[i]);
     }
+    r.x = settle(p, vars, r.x, o);
     const PoseError e = error_at(p, r.x);
-    // Starts that end where another did are one candidate.
+    // Starts that end where another did are one candidate. "Where" is every part's pose, not
+    // the target error: a symmetric target (a rod end for end) is as near the goal in two
+    // configurations that differ in how the hack holds it, and only one of them may hold.
+    const std::vector<Mat4> frames = a.part_frames(r.x);
     bool seen = false;
-    for (const Step1Result::Candidate& c : best.candidates) {
-      seen = seen || (std::abs(score(c.error) - score(e)) < 1e-6 &&
-                      std::abs(c.error.position_mm - e.position_mm) < 1e-3);
+    for (const std::vector<Mat4>& other : seen_frames) seen = seen || same_poses(frames, other);
+    if (!seen) {
+      best.candidates.push_back({r.x, e, !r.converged});
+      seen_frames.push_back(frames);
     }
-    if (!seen) best.candidates.push_back({r.x, e, !r.converged});
     if (score(e) < best_score - 1e-9) {
       best_score = score(e);
       best.x = r.x;

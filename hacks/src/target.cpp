@@ -1,5 +1,7 @@
 #include "target.h"
 
+#include <algorithm>
+
 namespace fabkit::hacks::detail {
 
 TargetSymmetry target_symmetry(PrimitiveType t) {
@@ -61,20 +63,22 @@ PoseError pose_error(const TargetModel& t, const Rigid<double>& part_frame) {
   };
   e.tilt_deg = tilt_of(t.goal.R);
   if (t.symmetry.free_axis) {
+    // A target free to spin about an axis (a rod, a ring) is only its axis: the error is the
+    // angle between the axes, split into how much higher or lower the axis points (tilt) and
+    // how far it is turned about the vertical (twist).
     const Vec3 u = actual.R * *t.symmetry.free_axis;
-    const Vec3 g = t.goal.R * *t.symmetry.free_axis;
+    Vec3 g = t.goal.R * *t.symmetry.free_axis;
+    if (t.symmetry.half_turn_axis && u.dot(g) < 0) g = -g;  // end for end is the same
     e.rotation_deg = angle_between(u, g);
-    if (t.symmetry.half_turn_axis) {
-      e.rotation_deg = std::min(e.rotation_deg, angle_between(u, -g));
-      e.tilt_deg = std::min(e.tilt_deg, 180.0 - e.tilt_deg);
-    }
-    // A spin about the free axis is no error: twist is that of the axis about the vertical.
+    auto elevation = [](const Vec3& v) {
+      return std::asin(std::clamp(v.z(), -1.0, 1.0)) * kRadToDeg;
+    };
+    e.tilt_deg = std::abs(elevation(u) - elevation(g));
     const Vec3 uh(u.x(), u.y(), 0);
     const Vec3 gh(g.x(), g.y(), 0);
+    e.twist_deg = 0;
     if (uh.norm() > 1e-9 && gh.norm() > 1e-9) {
-      double tw = std::atan2(gh.cross(uh).z(), gh.dot(uh)) * kRadToDeg;
-      if (t.symmetry.half_turn_axis && std::abs(tw) > 90) tw -= tw > 0 ? 180 : -180;
-      e.twist_deg = tw;
+      e.twist_deg = std::atan2(gh.cross(uh).z(), gh.dot(uh)) * kRadToDeg;
     }
     return e;
   }

@@ -63,7 +63,9 @@ std::string mutate(std::string s, std::mt19937_64& rng) {
 }
 
 void expect_clean(const Diagnostics& d, bool refused, const std::string& input) {
-  if (refused) EXPECT_TRUE(d.has_errors()) << "refused without an error:\n" << input;
+  if (refused) {
+    EXPECT_TRUE(d.has_errors()) << "refused without an error:\n" << input;
+  }
   for (const Diagnostic& x : d) {
     EXPECT_TRUE(is_valid_utf8(x.message)) << excerpt(x.message, 300);
     EXPECT_LT(x.message.size(), 2000u) << x.message.substr(0, 200);
@@ -103,7 +105,9 @@ TEST(FuzzReaders, MutatedPartFiles) {
     EXPECT_NO_THROW(ok = lib.load_yaml_text(
                         text, "fuzz.yaml", std::string(FABKIT_SOURCE_DIR) + "/examples/parts", d));
     expect_clean(d, !ok, text);
-    if (!ok) EXPECT_EQ(lib.generators().size(), before) << "a refused part file added parts";
+    if (!ok) {
+      EXPECT_EQ(lib.generators().size(), before) << "a refused part file added parts";
+    }
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <regex>
 #include <thread>
 
 #include "fabkit/core/file_io.h"
@@ -58,13 +59,16 @@ void reply(httplib::Response& res, int status, const Json& body) {
   res.set_content(dump_json(body), "application/json");
 }
 
+void reply(httplib::Response& res, const JobAnswer& answer) {
+  res.status = answer.status;
+  res.set_content(answer.body, answer.content_type);
+}
+
 void reply_error(httplib::Response& res,
                  int status,
                  const std::string& message,
                  const Json& diagnostics) {
-  const JobAnswer a = error_answer(status, message, diagnostics);
-  res.status = a.status;
-  res.set_content(a.body, a.content_type);
+  reply(res, error_answer(status, message, diagnostics));
 }
 
 JobAnswer json_answer(int status, const Json& body) {
@@ -101,6 +105,10 @@ std::string messages_of(const Diagnostics& d) {
 }
 
 void answer_from_job(const ApiContext& context, httplib::Response& res, JobQueue::Work work) {
+  if (JobQueue::on_worker_thread()) {  // a heavy route's handler: it is on the queue already
+    reply(res, work());
+    return;
+  }
   auto ticket = context.jobs->submit(std::move(work));
   if (!ticket) {
     reply_error(res,
@@ -171,16 +179,46 @@ struct EditorServer::Impl {
     if (jobs) jobs->stop();
   }
 
+  // A route's handler as the server runs it: a heavy one on the job queue (with its own copy
+  // of the request, which outlives a client that leaves), a light one as it is.
+  ApiRoute::Handler placed(const std::string& pattern, const ApiRoute& route) {
+    const bool heavy =
+        route.load == ApiRoute::Load::kHeavy ||
+        (route.load == ApiRoute::Load::kAuto && route.method == ApiRoute::Method::kPost);
+    if (!heavy) return route.handler;
+    const ApiContext context{&options, jobs.get()};
+    auto regex = std::make_shared<const std::regex>(pattern);
+    auto handler = route.handler;
+    return [context, regex, handler](const httplib::Request& req, httplib::Response& res) {
+      auto request = std::make_shared<httplib::Request>(req);
+      answer_from_job(context, res, [request, regex, handler]() -> JobAnswer {
+        // The copy's matches would point into the original request's path.
+        std::regex_match(request->path, request->matches, *regex);
+        httplib::Response out;
+        try {
+          handler(*request, out);
+        } catch (...) {
+          return error_answer(500,
+                              fmt::format("internal error while answering {} {}",
+                                          request->method,
+                                          excerpt(request->path, 120)));
+        }
+        return {
+            out.status == -1 ? 200 : out.status, out.body, out.get_header_value("Content-Type")};
+      });
+    };
+  }
+
   void add(const std::string& prefix, const ApiRoute& route) {
     const std::string pattern = prefix + route.path;
+    auto handler = placed(pattern, route);
     if (route.method == ApiRoute::Method::kGet) {
-      http->Get(pattern, route.handler);
+      http->Get(pattern, handler);
       return;
     }
     // POST bodies are read here, capped whatever their transfer encoding (httplib checks its
     // payload limit against Content-Length only, and read chunked bodies whole).
     const std::size_t cap = options.max_body_bytes;
-    auto handler = route.handler;
     http->Post(pattern,
                [cap, handler](const httplib::Request& req,
                               httplib::Response& res,
@@ -319,6 +357,10 @@ struct EditorServer::Impl {
           return 100;
         });
     http->set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
+      // Whatever a kit's handler answered: no absolute path of this machine in a JSON answer.
+      if (res.get_header_value("Content-Type").rfind("application/json", 0) == 0) {
+        res.body = without_machine_paths(res.body);
+      }
       res.set_header("X-Content-Type-Options", "nosniff");
       res.set_header("X-Frame-Options", "DENY");
       res.set_header("Referrer-Policy", "no-referrer");

@@ -161,7 +161,9 @@ KitApi hacks_api(const ApiContext& context) {
   // Two-way filtering: which of the candidate primitives can connect to the picked one
   // (paper Table 1, closedness, sizes), each with the reason when not.
   api.routes.push_back(
-      {M::kPost, "compatible", [library](const httplib::Request& req, httplib::Response& res) {
+      {M::kPost,
+       "compatible",
+       [library](const httplib::Request& req, httplib::Response& res) {
          json body;
          try {
            body = json::parse(req.body);
@@ -245,7 +247,9 @@ KitApi hacks_api(const ApiContext& context) {
            out.push_back({{"ok", ok}, {"reason", ok ? "" : messages_of(d)}});
          }
          reply(res, 200, out);
-       }});
+       },
+       // Light: table lookups and size rules, answered on the request thread.
+       ApiRoute::Load::kLight});
 
   // Geometry of a loose primitive (an environment made of primitives, e.g. a table
   // surface): the primitive's own coordinates, sizes from the query (mm, degrees).
@@ -288,9 +292,10 @@ KitApi hacks_api(const ApiContext& context) {
        }});
 
   api.routes.push_back(
+      // Heavy (a POST): the server runs it on its job queue (kit_api.h, ApiRoute::load).
       {M::kPost, "check", [context, library](const httplib::Request& req, httplib::Response& res) {
-         answer_from_job(context, res, [context, library, body = req.body]() -> JobAnswer {
-           const Design d = load(context, *library, body, context.deadline());
+         reply(res, [&]() -> JobAnswer {
+           const Design d = load(context, *library, req.body, context.deadline());
            if (auto refused = reject_input(d)) return *refused;
            json steps = json::array();
            for (const DesignStep& s : d.steps) {
@@ -325,15 +330,15 @@ KitApi hacks_api(const ApiContext& context) {
                 {"steps", steps},
                 {"parts", parts},
                 {"diagnostics", to_json(d.diagnostics)}});
-         });
+         }());
        }});
 
   api.routes.push_back(
       {M::kPost, "solve", [context, library](const httplib::Request& req, httplib::Response& res) {
          const bool glb = req.has_param("format") && req.get_param_value("format") == "glb";
-         answer_from_job(context, res, [context, library, glb, body = req.body]() -> JobAnswer {
+         reply(res, [&]() -> JobAnswer {
            const auto limit = context.deadline();
-           const Design d = load(context, *library, body, limit);
+           const Design d = load(context, *library, req.body, limit);
            if (auto refused = reject_input(d)) return *refused;
            if (!d.feasible()) {
              const int status = http_status(d.diagnostics);
@@ -357,8 +362,21 @@ KitApi hacks_api(const ApiContext& context) {
              if (!bytes) return error_answer(500, "cannot encode the scene", to_json(dg));
              return {200, std::move(*bytes), "model/gltf-binary"};
            }
-           return {200, result_json(d.assembly, r, d.name), "application/json"};
-         });
+           // result.json, plus for the editor every part's frame after step 1 (before gravity),
+           // so it can show the assembly settling.
+           json out = json::parse(result_json(d.assembly, r, d.name));
+           json step1 = json::array();
+           if (r.step1_parameters.size() == d.assembly.values().size()) {
+             const std::vector<Mat4> frames = d.assembly.part_frames(r.step1_parameters);
+             for (int i = 0; i < d.assembly.part_count(); ++i) {
+               step1.push_back(
+                   {{"name", d.assembly.label(PartId{i})},
+                    {"frame", to_json(Frame::from_matrix(frames[static_cast<std::size_t>(i)]))}});
+             }
+           }
+           out["step1_parts"] = step1;
+           return json_answer(200, out);
+         }());
        }});
   return api;
 }

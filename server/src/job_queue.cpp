@@ -73,7 +73,16 @@ void JobQueue::stop() {
   workers_.clear();
 }
 
+namespace {
+thread_local bool t_on_worker = false;
+}  // namespace
+
+bool JobQueue::on_worker_thread() {
+  return t_on_worker;
+}
+
 void JobQueue::work() {
+  t_on_worker = true;
 #ifdef __linux__
   // Lower priority for the heavy work, so the request threads get the CPU when they need it.
   if (options_.nice > 0) {

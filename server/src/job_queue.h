@@ -53,6 +53,8 @@ class JobQueue {
   /// Jobs queued or running.
   std::size_t pending() const;
   bool stopping() const { return stopping_; }
+  /// Whether the calling thread is one of a JobQueue's workers.
+  static bool on_worker_thread();
   const Options& options() const { return options_; }
 
  private:

@@ -2,6 +2,14 @@
 // The seam between the server and a kit: each kit contributes a table of routes, registered
 // under /api/<kit>/... (the hacks kit also at its original /api/... paths). Handlers validate
 // their input and answer JSON; none may take a file name from a request.
+//
+// What the server does for every route of every kit, without the kit doing anything
+// (editor_server.cpp, docs/security.md): it answers only requests addressed to it (Host) and
+// POSTs with a YAML or JSON body from its own page or none (Origin); it caps bodies (chunked
+// ones too), the time a request may take to arrive and the connections served at once; it runs
+// heavy routes (every POST unless the route says kLight) on its bounded job queue; it turns a
+// handler's exception into a 500 without its text, and cuts every absolute path of the machine
+// out of JSON answers.
 
 // The library (Eigen) before httplib: httplib pulls in <resolv.h>, whose `_res` macro breaks
 // Eigen's headers when they come after it. Kept out of include sorting for that reason.
@@ -37,7 +45,16 @@ struct ApiRoute {
   /// Path after "/api/<kit>/": plain ("parts") or a regular expression
   /// ("parts/([A-Za-z0-9_]{1,64})/mesh").
   std::string path;
-  std::function<void(const httplib::Request&, httplib::Response&)> handler;
+  using Handler = std::function<void(const httplib::Request&, httplib::Response&)>;
+  Handler handler;
+  /// Where the handler runs. kHeavy: on the server's job queue (at most
+  /// ServerOptions::job_workers at once, at a lower CPU priority, 503 "busy" beyond
+  /// max_queued_jobs), never on a thread that reads requests, so light requests stay fast under
+  /// any load; the handler's answer keeps its status, body and Content-Type (other headers are
+  /// dropped). kLight: on the request's thread — it must answer in milliseconds. kAuto (the
+  /// default): POST routes are heavy, GET routes light.
+  enum class Load { kAuto, kLight, kHeavy };
+  Load load = Load::kAuto;
 };
 
 struct KitApi {
@@ -55,6 +72,8 @@ KitApi hacks_api(const ApiContext& context);
 
 /// A JSON answer.
 void reply(httplib::Response& res, int status, const Json& body);
+/// `answer` as the response (status, body, media type).
+void reply(httplib::Response& res, const JobAnswer& answer);
 /// {"error": message, "diagnostics": [...]} with `status`.
 void reply_error(httplib::Response& res,
                  int status,
@@ -78,7 +97,8 @@ JobAnswer error_answer(int status,
 
 /// Runs `work` on the job queue (heavy work: checks, solves) and answers with its result; 503
 /// when the queue is full. The request's thread only waits, and stops waiting (the job is then
-/// not started) when its client leaves.
+/// not started) when its client leaves. (Heavy routes are already run on the queue, see
+/// ApiRoute::load; called from a job, `work` runs at once.)
 void answer_from_job(const ApiContext& context, httplib::Response& res, JobQueue::Work work);
 
 }  // namespace fabkit::server

@@ -318,7 +318,14 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
     H = 0.5 * (H + H.transpose());
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
     const Eigen::VectorXd& raw = eig.eigenvalues();
-    const Eigen::MatrixXd& V = eig.eigenvectors();
+    // Eigenvectors come with an arbitrary sign; fix it (largest entry positive) so that an
+    // escape from a balance point goes the same way whatever round-off chose.
+    Eigen::MatrixXd V = eig.eigenvectors();
+    for (int i = 0; i < V.cols(); ++i) {
+      Eigen::Index k = 0;
+      V.col(i).cwiseAbs().maxCoeff(&k);
+      if (V(k, i) < 0) V.col(i) = -V.col(i);
+    }
     const double neutral =
         std::max(options_.neutral_floor, options_.neutral_curvature * raw.cwiseAbs().maxCoeff());
     // Curvatures within ± neutral are 0; gradient components below tolerance are 0.

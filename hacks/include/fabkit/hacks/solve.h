@@ -17,7 +17,7 @@
 namespace fabkit::hacks {
 
 struct SolveOptions {
-  int target_starts = 4;           ///< step 1: starts (the verified configuration + seeded random)
+  int target_starts = 8;           ///< step 1: starts (the verified configuration + seeded random)
   std::uint64_t seed = 1;          ///< seeds step 1's random starts
   double constraint_weight = 100;  ///< step 1: weight of constraint residuals against the target's
   double closure_tolerance_mm = 1e-6;  ///< connections must close to this after each step

@@ -1,5 +1,5 @@
-// The design being edited, and an unlimited undo/redo history of whole design snapshots.
-import type { Frame } from './api';
+// The hacks design being edited (the document of the hacks workspace) and the inventory.
+import type { Frame } from '../../shell/scene';
 
 export interface EnvItem { name: string; part?: string; primitives?: Record<string, unknown>; frame: Frame }
 export interface PartItem { name: string; part: string; params?: Record<string, number> }
@@ -41,34 +41,22 @@ export function removeInstance(d: Design, name: string): Design {
   return n;
 }
 
-export class History {
-  private undoStack: Design[] = [];
-  private redoStack: Design[] = [];
-  constructor(public current: Design, private onChange: (d: Design, label: string) => void) {}
-  /** Applies a command: the new design becomes current, the old one goes to the undo stack. */
-  apply(next: Design, label: string): void {
-    this.undoStack.push(this.current);
-    this.redoStack = [];
-    this.current = next;
-    this.onChange(next, label);
-  }
-  /** Replaces the whole history (open file). */
-  reset(d: Design): void { this.undoStack = []; this.redoStack = []; this.current = d; this.onChange(d, 'open'); }
-  canUndo(): boolean { return this.undoStack.length > 0; }
-  canRedo(): boolean { return this.redoStack.length > 0; }
-  undo(): void {
-    const d = this.undoStack.pop(); if (!d) return;
-    this.redoStack.push(this.current); this.current = d; this.onChange(d, 'undo');
-  }
-  redo(): void {
-    const d = this.redoStack.pop(); if (!d) return;
-    this.undoStack.push(this.current); this.current = d; this.onChange(d, 'redo');
-  }
-}
-
 /** How many of each library part the user owns; absent = unlimited. */
 export class Inventory {
   owned = new Map<string, number>();
   limit(part: string): number | undefined { return this.owned.get(part); }
   set(part: string, n: number | undefined): void { if (n === undefined || Number.isNaN(n)) this.owned.delete(part); else this.owned.set(part, n); }
+}
+
+/** A parametric part's default parameter values (its schema's defaults). */
+export function defaultParams(info: { params: { name: string; default: number }[] }): Record<string, number> {
+  return Object.fromEntries(info.params.map((p) => [p.name, p.default]));
+}
+
+/** Renames an instance in every connection that mentions it. */
+export function renameRefs(d: Design, old: string, name: string): void {
+  for (const c of d.connections) {
+    if (c.a.split('.')[0] === old) c.a = name + c.a.slice(old.length);
+    if (c.b.split('.')[0] === old) c.b = name + c.b.slice(old.length);
+  }
 }

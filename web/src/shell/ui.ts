@@ -1,5 +1,5 @@
 // Small DOM helpers shared by the panels.
-import type { Frame, Vec3 } from './api';
+import type { Frame, Vec3 } from './scene';
 
 export function el(tag: string, attrs: Record<string, string> = {}, ...children: (Node | string)[]): HTMLElement {
   const e = document.createElement(tag);
@@ -25,7 +25,7 @@ export function frameEditor(id: string, title: string, frame: Frame, onRename: (
   const box = el('div', { class: 'frame-editor', 'data-testid': `frame-${id}` });
   const nameInput = el('input', { value: name, 'data-testid': `frame-${id}-name`, style: 'width:110px' }) as HTMLInputElement;
   nameInput.addEventListener('change', () => { if (nameInput.value.trim() && nameInput.value !== name) onRename(nameInput.value.trim()); });
-  const del = el('button', { 'data-testid': `frame-${id}-delete` }, 'delete');
+  const del = el('button', { 'data-testid': `frame-${id}-delete`, title: `Delete ${name} and its connections (undoable)` }, 'delete');
   del.addEventListener('click', onDelete);
   box.append(el('div', {}, el('b', {}, title)), el('div', {}, 'name ', nameInput, ' ', del));
   const f: Frame = { pos: [...frame.pos] as Vec3, rot: [...frame.rot] as Vec3 };

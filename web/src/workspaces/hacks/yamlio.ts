@@ -1,14 +1,18 @@
 // Design <-> YAML (fabkit: hacks/1, docs/design-format.md).
 import YAML from 'yaml';
 import type { Design, Connection } from './model';
-import type { Frame, Vec3 } from './api';
+import type { Frame, Vec3 } from '../../shell/scene';
 
 const frameOf = (f: any): Frame => ({ pos: (f?.pos ?? [0, 0, 0]).map(Number) as Vec3, rot: (f?.rot ?? [0, 0, 0]).map(Number) as Vec3 });
 
 export function parseDesign(text: string): Design {
   const y = YAML.parse(text) ?? {};
+  // One name for one primitive: the library's "ring" (files may use the paper's "hole", which
+  // the server reads as the same primitive).
+  const ownHole = new Set((y.environment ?? []).filter((e: any) => e?.primitives && 'hole' in e.primitives).map((e: any) => String(e.name)));
+  const ring = (ref: string) => (ownHole.has(ref.split('.')[0]) ? ref : ref.replace(/\.hole$/, '.ring'));
   const conns: Connection[] = (y.connections ?? []).map((c: any) => {
-    const out: Connection = { a: String(c.connect[0]), b: String(c.connect[1]) };
+    const out: Connection = { a: ring(String(c.connect[0])), b: ring(String(c.connect[1])) };
     if (c.alignment === 'flip') out.alignment = 'flip';
     if (c.fixed) out.fixed = true;
     return out;
@@ -17,7 +21,7 @@ export function parseDesign(text: string): Design {
     name: y.name ?? 'untitled', description: y.description,
     environment: (y.environment ?? []).map((e: any) => ({ name: e.name, part: e.part, primitives: e.primitives, frame: frameOf(e.frame) })),
     parts: (y.parts ?? []).map((p: any) => (p.params ? { name: p.name, part: p.part, params: p.params } : { name: p.name, part: p.part })),
-    target: y.target ? { name: y.target.name, part: y.target.part, primitive: y.target.primitive, frame: frameOf(y.target.frame) } : null,
+    target: y.target ? { name: y.target.name, part: y.target.part, primitive: y.target.primitive === 'hole' ? 'ring' : y.target.primitive, frame: frameOf(y.target.frame) } : null,
     connections: conns,
   };
 }

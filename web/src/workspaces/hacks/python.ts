@@ -1,8 +1,8 @@
 // "Export Python": a FabHaL program in the paper's syntax (runnable with `fabkit run`).
 import type { Design } from './model';
-import type { Frame, Vec3 } from './api';
+import type { Frame, Vec3 } from '../../shell/scene';
 import * as THREE from 'three';
-import { frameMatrix } from './scene';
+import { frameMatrix } from '../../shell/scene';
 
 /** a ∘ b as a Frame (R = Rz·Ry·Rx, degrees). */
 function compose(a: Frame, b: Frame): Frame {
@@ -70,6 +70,6 @@ export function designToPython(d: Design): string {
     const what = d.target.primitive ? `${ident(d.target.name)}.${d.target.primitive}` : ident(d.target.name);
     L.push(`assembly.end_with(${what}, ${frame(d.target.frame)})`);
   }
-  L.push('');
+  L.push('', 'result = assembly.solve()', 'print(result.summary())', 'print("stable", result.stable)', 'print(result)', '');
   return L.join('\n');
 }
