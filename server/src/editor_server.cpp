@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <mutex>
 #include <regex>
 #include <thread>
 
@@ -18,6 +19,9 @@
 namespace fabkit::server {
 
 namespace {
+
+std::mutex g_test_kits_mutex;
+std::vector<std::function<KitApi(const ApiContext&)>> g_test_kits;
 
 // The characters after which a '/' starts a path in a message ("cannot read '/home/...").
 bool starts_path_after(char c) {
@@ -102,6 +106,16 @@ std::string messages_of(const Diagnostics& d) {
     if (x.severity == Severity::kError) out += (out.empty() ? "" : "\n") + x.message;
   }
   return out;
+}
+
+void add_kit_for_tests(std::function<KitApi(const ApiContext&)> make) {
+  std::lock_guard lock(g_test_kits_mutex);
+  g_test_kits.push_back(std::move(make));
+}
+
+void clear_kits_for_tests() {
+  std::lock_guard lock(g_test_kits_mutex);
+  g_test_kits.clear();
 }
 
 void answer_from_job(const ApiContext& context, httplib::Response& res, JobQueue::Work work) {
@@ -369,6 +383,10 @@ struct EditorServer::Impl {
     const ApiContext context{&options, jobs.get()};
     std::vector<KitApi> kits;
     kits.push_back(hacks_api(context));
+    {
+      std::lock_guard lock(g_test_kits_mutex);
+      for (const auto& make : g_test_kits) kits.push_back(make(context));
+    }
     Json kit_names = Json::array();
     for (const KitApi& kit : kits) {
       startup_errors.append(kit.startup_errors);

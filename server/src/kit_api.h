@@ -68,6 +68,13 @@ struct KitApi {
 /// The hacks kit's routes (server/src/hacks_api.cpp).
 KitApi hacks_api(const ApiContext& context);
 
+/// For tests of the seam: a kit every EditorServer constructed afterwards registers after its
+/// own kits (server/tests/kit_seam_test.cpp checks that the server's protections hold for a kit
+/// that does nothing for them). Not for production kits: add those in editor_server.cpp.
+void add_kit_for_tests(std::function<KitApi(const ApiContext&)> make);
+/// Forgets the kits added by add_kit_for_tests.
+void clear_kits_for_tests();
+
 // ---- answering ------------------------------------------------------------------------------
 
 /// A JSON answer.
