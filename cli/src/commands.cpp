@@ -120,12 +120,13 @@ int run_python(const std::string& mode,
                const std::string& script,
                const std::vector<std::string>& args) {
 #if defined(FABKIT_PYTHON_PATH) && defined(FABKIT_PYTHON_EXECUTABLE)
-  if (!std::filesystem::exists(script)) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(script, ec)) {
     std::fprintf(stderr, "error: cannot open '%s'\n", script.c_str());
     return kExitBadInput;
   }
   const std::string module_dir = FABKIT_PYTHON_PATH;
-  if (!std::filesystem::exists(std::filesystem::path(module_dir) / "fabkit")) {
+  if (!std::filesystem::exists(std::filesystem::path(module_dir) / "fabkit", ec)) {
     std::fprintf(
         stderr,
         "error: the fabkit Python module is not built (expected in %s); run ./scripts/setup\n",
@@ -159,6 +160,7 @@ int run_serve(const ServeSettings& settings) {
   o.port = settings.port;
   if (std::filesystem::is_directory(FABKIT_WEB_DIR)) o.web_root = FABKIT_WEB_DIR;
   for (const std::string& f : settings.part_files) o.hacks_part_files.emplace_back(f);
+  o.allowed_hosts = settings.allowed_hosts;
   if (!settings.design.empty()) {
     Diagnostics d;
     const auto text = read_input_file(settings.design, "design file", d);

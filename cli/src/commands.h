@@ -62,8 +62,9 @@ int run_python(const std::string& mode,
 struct ServeSettings {
   std::string host = "127.0.0.1";  ///< loopback unless given explicitly
   int port = 8080;
-  std::string design;                   ///< optional design to open
-  std::vector<std::string> part_files;  ///< hacks part files to offer
+  std::string design;                      ///< optional design to open
+  std::vector<std::string> part_files;     ///< hacks part files to offer
+  std::vector<std::string> allowed_hosts;  ///< more names the server answers to (Host header)
 };
 int run_serve(const ServeSettings& settings);
 

@@ -86,7 +86,10 @@ void print_analysis(const Analysis& a, bool quiet) {
       "%s: %s — %zu components, %zu pieces, %d joints (%d from connections, %d automatic; %d "
       "finger-finger, %d finger-hole, %d slot-slot cut)\n",
       a.name.empty() ? "design" : a.name.c_str(),
-      a.diagnostics.has_errors() ? (a.placed ? "built with failed checks" : "invalid") : "valid",
+      a.diagnostics.has_errors_of(DiagnosticClass::kTimeout)
+          ? "stopped at the deadline"
+          : (a.diagnostics.has_errors() ? (a.placed ? "built with failed checks" : "invalid")
+                                        : "valid"),
       a.components.size(),
       a.pieces.size(),
       a.graph_joints(),
@@ -117,7 +120,13 @@ std::optional<Design> read(const DesignInput& input) {
 int flatpack_check(const DesignInput& input) {
   const auto design = read(input);
   if (!design) return kExitBadInput;
-  const Analysis a = check(*design);
+  CheckOptions o;
+  if (input.settings.time_limit_s) {
+    o.deadline =
+        std::chrono::steady_clock::now() +
+        std::chrono::microseconds(static_cast<long long>(*input.settings.time_limit_s * 1e6));
+  }
+  const Analysis a = check(*design, o);
   print_analysis(a, input.settings.quiet);
   return exit_code(a.diagnostics);
 }
@@ -148,6 +157,8 @@ int flatpack_build(const DesignInput& input) {
                 100 * s.nesting.utilisation);
   }
   for (const auto& f : s.files) std::printf("wrote %s\n", f.string().c_str());
+  if (s.termination == Termination::kTimeout)
+    std::printf("stopped at the deadline; nothing written\n");
   return exit_code(s.diagnostics);
 }
 

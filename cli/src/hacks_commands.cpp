@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "embedded_examples.h"
 #include "fabkit/core/file_io.h"
+#include "fabkit/hacks/deadline.h"
 #include "fabkit/hacks/design_file.h"
 #include "fabkit/hacks/parts_library.h"
 #include "fabkit/hacks/solution_export.h"
@@ -58,8 +59,11 @@ void print_summary(const Design& design) {
   const std::size_t cycles = a.cycle_connections().size();
   int rejected = 0;
   for (const DesignStep& s : design.steps) rejected += (!s.accepted && !s.skipped) ? 1 : 0;
-  const char* verdict =
-      design.feasible() ? "valid" : (design.readable ? "infeasible" : "unreadable");
+  const char* verdict = design.feasible()  ? "valid"
+                        : !design.readable ? "unreadable"
+                        : design.diagnostics.has_errors_of(DiagnosticClass::kTimeout)
+                            ? "stopped at the deadline"
+                            : "infeasible";
   std::printf(
       "%s: %s — %d parts, %zu connections (%zu close%s a cycle), %d connector parameters%s\n",
       design.name.empty() ? "design" : design.name.c_str(),
@@ -254,7 +258,10 @@ int solve_design(Design design, const DesignSettings& settings, bool write) {
   for (const hacks::Slip& s : result.slips) {
     std::fprintf(stderr, "error: falls apart: %s\n", s.message.c_str());
   }
-  if (result.termination == hacks::Termination::kTimeout) return kExitTimeLimit;
+  if (result.termination == hacks::Termination::kTimeout) {
+    std::fprintf(stderr, "error: %s\n", hacks::stopped_at_deadline(result, options).c_str());
+    return kExitTimeLimit;
+  }
   if (result.stable) return kExitOk;
   if (result.slips.empty()) {
     std::fprintf(stderr, "error: %s\n", result.message.c_str());

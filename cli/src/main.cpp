@@ -1,9 +1,12 @@
 // fabkit command line: parse, then hand over to run_<command>().
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <exception>
+#include <new>
 #include <string>
 
 #include "commands.h"
+#include "fabkit/core/text.h"
 #include "kits.h"
 
 namespace {
@@ -91,6 +94,10 @@ int main(int argc, char** argv) {
                    serve.host,
                    "address to listen on; other than loopback, other machines can connect")
       ->capture_default_str();
+  serve_cmd->add_option("--allow-host",
+                        serve.allowed_hosts,
+                        "another name this server may be reached under (e.g. myhost.lan); by "
+                        "default it answers only to its address (and localhost)");
 
   BurnTestSettings burn;
   CLI::App* flatpack_cmd =
@@ -138,21 +145,35 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
   }
-  if (*check_cmd) return run_check(check);
-  if (*build_cmd) return run_build(build);
-  if (*solve_cmd) return run_solve(solve);
-  if (*demo_cmd) return run_demo(demo);
-  if (*parts_cmd) return run_parts(parts);
-  if (*burn_cmd) return flatpack_burn_test(burn);
-  if (*templates_cmd) {
-    templates_settings.action = *templates_list ? "list" : "show";
-    return run_templates(templates_settings);
+  // The library answers bad input with diagnostics; an exception reaching here is a bug (or
+  // the machine ran out of memory): say so in one line with the exit code for it, never abort.
+  try {
+    if (*check_cmd) return run_check(check);
+    if (*build_cmd) return run_build(build);
+    if (*solve_cmd) return run_solve(solve);
+    if (*demo_cmd) return run_demo(demo);
+    if (*parts_cmd) return run_parts(parts);
+    if (*burn_cmd) return flatpack_burn_test(burn);
+    if (*templates_cmd) {
+      templates_settings.action = *templates_list ? "list" : "show";
+      return run_templates(templates_settings);
+    }
+    if (*run_cmd) {
+      for (const std::string& extra : run_cmd->remaining()) script_args.push_back(extra);
+      return run_python("run", script, script_args);
+    }
+    if (*sweep_cmd) return run_python("sweep", family, {});
+    if (*serve_cmd) return run_serve(serve);
+  } catch (const std::bad_alloc&) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "error: out of memory\n");
+    return kExitInternal;
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr,
+                 "error: internal error: %s (please report this with the input)\n",
+                 fabkit::excerpt(e.what(), 300).c_str());
+    return kExitInternal;
   }
-  if (*run_cmd) {
-    for (const std::string& extra : run_cmd->remaining()) script_args.push_back(extra);
-    return run_python("run", script, script_args);
-  }
-  if (*sweep_cmd) return run_python("sweep", family, {});
-  if (*serve_cmd) return run_serve(serve);
   return kExitUsage;
 }

@@ -2,6 +2,7 @@
 // bundled database (fabkit templates list | show NAME).
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
@@ -15,9 +16,18 @@ namespace fabkit::cli {
 
 namespace {
 
-templates::ComposedModel compose(const DesignInput& input) {
+templates::CheckOptions options_of(const DesignSettings& settings) {
+  templates::CheckOptions o;
+  if (settings.time_limit_s) {
+    o.deadline = std::chrono::steady_clock::now() +
+                 std::chrono::microseconds(static_cast<long long>(*settings.time_limit_s * 1e6));
+  }
+  return o;
+}
+
+templates::ComposedModel compose(const DesignInput& input, const templates::CheckOptions& o) {
   return templates::compose_model(
-      input.text, input.settings.design, templates::TemplateDatabase::bundled());
+      input.text, input.settings.design, templates::TemplateDatabase::bundled(), o);
 }
 
 void print_model(const templates::ComposedModel& cm, const templates::CheckResult& r, bool quiet) {
@@ -49,24 +59,29 @@ void print_model(const templates::ComposedModel& cm, const templates::CheckResul
       r.verdict.c_str(),
       t.part_count(),
       t.connections.size(),
-      r.stability.stable ? "stable" : "UNSTABLE",
+      r.diagnostics.has_errors_of(DiagnosticClass::kTimeout) ? "not checked"
+      : r.stability.stable                                   ? "stable"
+                                                             : "UNSTABLE",
       r.bom ? fmt::format("materials ${:.2f}", r.bom->total).c_str() : "no bill of materials");
 }
 
 }  // namespace
 
 int templates_check(const DesignInput& input) {
-  const templates::ComposedModel cm = compose(input);
-  const templates::CheckResult r = templates::check(cm, templates::TemplateDatabase::bundled());
+  const templates::CheckOptions o = options_of(input.settings);
+  const templates::ComposedModel cm = compose(input, o);
+  const templates::CheckResult r = templates::check(cm, templates::TemplateDatabase::bundled(), o);
   print_model(cm, r, input.settings.quiet);
   if (!cm.readable && !r.diagnostics.has_errors()) return kExitBadInput;
   return exit_code(r.diagnostics);
 }
 
 int templates_build(const DesignInput& input) {
-  const templates::ComposedModel cm = compose(input);
+  templates::BuildOptions bo;
+  bo.check = options_of(input.settings);
+  const templates::ComposedModel cm = compose(input, bo.check);
   const templates::BuildSummary s =
-      templates::build(cm, templates::TemplateDatabase::bundled(), input.settings.output_dir);
+      templates::build(cm, templates::TemplateDatabase::bundled(), input.settings.output_dir, bo);
   print_model(cm, s.check, input.settings.quiet);
   for (const Diagnostic& d : s.diagnostics) {
     if (d.kind() == DiagnosticClass::kIo) print_diagnostic(d);

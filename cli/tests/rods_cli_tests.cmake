@@ -103,4 +103,4 @@ endif()
 file(WRITE ${tmp}/blocker "not a directory")
 expect_run(5 "" build ${ex}/twisted_prism.yaml -o ${tmp}/blocker/out)
 # 6: stopped at the time limit.
-expect_run(6 "time limit" build ${ex}/geodesic_dome.yaml -o ${tmp}/dome --time-limit 0.001)
+expect_run(6 "stopped at the deadline" build ${ex}/geodesic_dome.yaml -o ${tmp}/dome --time-limit 0.001)

@@ -4,6 +4,8 @@
 
 #include <array>
 
+#include "fabkit/core/text.h"
+
 namespace fabkit {
 
 std::string_view to_string(DiagnosticClass c) {
@@ -63,16 +65,24 @@ std::string Diagnostic::format() const {
   return fmt::format("{}{}: {}", prefix, to_string(severity), message);
 }
 
+void Diagnostics::add(Diagnostic d) {
+  // Messages quote what users wrote (names, keys, yaml-cpp's own excerpts of the input), which
+  // need not be UTF-8: every message must still print and encode as JSON.
+  if (!is_valid_utf8(d.message)) d.message = to_valid_utf8(d.message);
+  if (!is_valid_utf8(d.where.file)) d.where.file = to_valid_utf8(d.where.file);
+  items_.push_back(std::move(d));
+}
+
 void Diagnostics::error(DiagnosticCode code, std::string message, SourceLocation where) {
-  items_.push_back({Severity::kError, code, std::move(message), std::move(where)});
+  add({Severity::kError, code, std::move(message), std::move(where)});
 }
 
 void Diagnostics::warning(DiagnosticCode code, std::string message, SourceLocation where) {
-  items_.push_back({Severity::kWarning, code, std::move(message), std::move(where)});
+  add({Severity::kWarning, code, std::move(message), std::move(where)});
 }
 
 void Diagnostics::note(DiagnosticCode code, std::string message, SourceLocation where) {
-  items_.push_back({Severity::kNote, code, std::move(message), std::move(where)});
+  add({Severity::kNote, code, std::move(message), std::move(where)});
 }
 
 void Diagnostics::append(const Diagnostics& other) {

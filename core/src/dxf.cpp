@@ -6,23 +6,38 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
-#include <atomic>
-#include <fstream>
+#include <cstdlib>
 #include <memory>
-#include <sstream>
+#include <string>
 
 #include "fabkit/core/file_io.h"
 
 namespace fabkit {
 namespace {
 
-std::filesystem::path temporary_path() {
-  static std::atomic<int> counter{0};
-  std::error_code ec;
-  std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
-  if (ec) dir = ".";
-  return dir / fmt::format("fabkit-dxf-{}-{}.dxf", static_cast<long>(getpid()), counter++);
-}
+// dxflib opens its file by name: in a directory only this process may write in (mkdtemp: mode
+// 0700, an unpredictable name), so no other user can plant a link where it writes, as they
+// could at a predictable name in a shared /tmp.
+class PrivateDirectory {
+ public:
+  PrivateDirectory() {
+    std::error_code ec;
+    std::filesystem::path base = std::filesystem::temp_directory_path(ec);
+    if (ec) base = ".";
+    std::string pattern = (base / "fabkit-dxf-XXXXXX").string();
+    if (::mkdtemp(pattern.data())) path_ = pattern;
+  }
+  ~PrivateDirectory() {
+    std::error_code ec;
+    if (!path_.empty()) std::filesystem::remove_all(path_, ec);
+  }
+  PrivateDirectory(const PrivateDirectory&) = delete;
+  PrivateDirectory& operator=(const PrivateDirectory&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 void write_sheet(DL_Dxf& dxf, DL_WriterA& dw, const CutSheet& sheet, const DxfOptions& o) {
   dxf.writeHeader(dw);
@@ -116,7 +131,12 @@ void write_sheet(DL_Dxf& dxf, DL_WriterA& dw, const CutSheet& sheet, const DxfOp
 std::optional<std::string> dxf_sheet(const CutSheet& sheet,
                                      Diagnostics& diags,
                                      const DxfOptions& options) {
-  const std::filesystem::path tmp = temporary_path();
+  const PrivateDirectory dir;
+  if (dir.path().empty()) {
+    diags.error(codes::kWriteFailed, "cannot create a private temporary directory for a DXF");
+    return std::nullopt;
+  }
+  const std::filesystem::path tmp = dir.path() / "sheet.dxf";
   {
     DL_Dxf dxf;
     std::unique_ptr<DL_WriterA> dw(dxf.out(tmp.c_str(), DL_Codes::AC1015));
@@ -128,13 +148,14 @@ std::optional<std::string> dxf_sheet(const CutSheet& sheet,
     write_sheet(dxf, *dw, sheet, options);
     dw->close();
   }
-  std::ifstream in(tmp, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  in.close();
-  std::error_code ec;
-  std::filesystem::remove(tmp, ec);
-  std::string text = bytes.str();
+  Diagnostics read;
+  const std::optional<std::string> bytes =
+      read_input_file(tmp, "temporary DXF file", read, std::size_t{1} << 30);
+  if (!bytes) {
+    diags.append(read);
+    return std::nullopt;
+  }
+  std::string text = *bytes;
   if (text.size() < 16) {
     diags.error(codes::kInternalError, "dxflib produced an empty DXF");
     return std::nullopt;

@@ -159,7 +159,7 @@ bool write_file_atomically(const fs::path& path, std::string_view bytes, Diagnos
 bool make_output_directory(const fs::path& directory, Diagnostics& diags) {
   std::error_code ec;
   fs::create_directories(directory, ec);
-  if (ec || !fs::is_directory(directory)) {
+  if (ec || !fs::is_directory(directory, ec)) {
     diags.error(codes::kWriteFailed,
                 fmt::format("cannot create output directory '{}': {}",
                             directory.string(),

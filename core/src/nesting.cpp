@@ -147,11 +147,11 @@ NestingResult nest(const std::vector<Polygon2d>& pieces,
     const int sheet = output.placements[k].bin;
     if (sheet < 0 || sheet >= options.max_sheets) {
       result.unplaced.push_back(static_cast<int>(i));
-      result.diagnostics.error(
-          timed_out ? codes::kTimeLimit : codes::kLimitExceeded,
-          timed_out
-              ? fmt::format("{} was not nested: nesting stopped at its time limit", name_of(i))
-              : fmt::format("{} was not nested within {} sheets", name_of(i), options.max_sheets));
+      if (!timed_out) {
+        result.diagnostics.error(
+            codes::kLimitExceeded,
+            fmt::format("{} was not nested within {} sheets", name_of(i), options.max_sheets));
+      }
       continue;
     }
     NestedPlacement& p = result.placements[i];
@@ -163,6 +163,24 @@ NestingResult nest(const std::vector<Polygon2d>& pieces,
     used_area[static_cast<std::size_t>(sheet)] += pieces[i].area();
   }
   std::sort(result.unplaced.begin(), result.unplaced.end());
+  if (timed_out && !result.unplaced.empty()) {
+    // One finding, with the best result so far: what was placed stays placed.
+    std::string not_nested;
+    for (std::size_t k = 0; k < result.unplaced.size() && k < 8; ++k) {
+      not_nested += (k ? ", " : "") + name_of(static_cast<std::size_t>(result.unplaced[k]));
+    }
+    if (result.unplaced.size() > 8)
+      not_nested += fmt::format(" and {} more", result.unplaced.size() - 8);
+    result.diagnostics.error(
+        codes::kTimeLimit,
+        fmt::format("nesting stopped at the deadline after placing {} of {} pieces on {} sheet{} "
+                    "(the best result so far); not nested: {}",
+                    item_piece.size() - result.unplaced.size(),
+                    item_piece.size(),
+                    output.bins,
+                    output.bins == 1 ? "" : "s",
+                    not_nested));
+  }
   result.sheet_count = static_cast<int>(bins);
   const double sheet_area = options.sheet_width_mm * options.sheet_height_mm;
   double total = 0;

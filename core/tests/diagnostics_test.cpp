@@ -5,6 +5,8 @@
 #include <set>
 #include <string>
 
+#include "fabkit/core/text.h"
+
 namespace fabkit {
 namespace {
 
@@ -59,6 +61,24 @@ TEST(Diagnostics, TheClassDecidesTheOutcome) {
   Diagnostics w;
   w.warning(codes::kMalformedInput, "odd");
   EXPECT_FALSE(w.deciding_class().has_value());
+}
+
+TEST(Diagnostics, MessagesAreMadeValidUtf8WhereTheyAreAdded) {
+  // Found by fuzz/hacks_design_fuzzer: yaml-cpp's "unknown escape character" quotes the raw
+  // byte of the file, which need not be UTF-8, and JSON encoding of such a message failed.
+  Diagnostics ds;
+  ds.error(codes::kMalformedInput,
+           "YAML syntax error: unknown escape character: \xff",
+           SourceLocation{"bad\xc3.yaml", 3, 4});
+  ds.warning(codes::kUnknownName, "unknown control 'si\xed\xa0\x80ze'");
+  ds.add(Diagnostic{Severity::kNote, codes::kInvalidValue, "caf\xc3\xa9 \x80"});
+  ASSERT_EQ(ds.size(), 3u);
+  EXPECT_EQ(ds.items()[0].message, "YAML syntax error: unknown escape character: \uFFFD");
+  EXPECT_EQ(ds.items()[0].where.file, "bad\uFFFD.yaml");
+  // A surrogate's three bytes are three replacement characters; valid text is kept as it is.
+  EXPECT_EQ(ds.items()[1].message, "unknown control 'si\uFFFD\uFFFD\uFFFDze'");
+  EXPECT_EQ(ds.items()[2].message, "caf\u00e9 \uFFFD");
+  for (const Diagnostic& d : ds) EXPECT_TRUE(is_valid_utf8(d.message)) << d.message;
 }
 
 }  // namespace

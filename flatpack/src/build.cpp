@@ -220,11 +220,17 @@ Json report_json(const BuildSummary& summary) {
 
 BuildSummary build(const Design& design, const BuildOptions& options) {
   BuildSummary s;
-  s.analysis = check(design, options.check);
+  CheckOptions co = options.check;
+  if (!co.deadline) co.deadline = options.deadline;
+  s.analysis = check(design, co);
   s.timings = s.analysis.timings;
   s.diagnostics.append(s.analysis.diagnostics);
   if (!s.analysis.placed) {
     s.termination = Termination::kInvalid;
+    return s;
+  }
+  if (s.analysis.diagnostics.has_errors_of(DiagnosticClass::kTimeout)) {
+    s.termination = Termination::kTimeout;  // nothing nested, nothing written
     return s;
   }
   auto t0 = std::chrono::steady_clock::now();
@@ -250,6 +256,8 @@ BuildSummary build(const Design& design, const BuildOptions& options) {
                         ? Termination::kTimeout
                         : Termination::kNotNested;
   }
+  // Sheets missing the pieces not yet nested would be cut as they are: nothing is written.
+  if (s.termination == Termination::kTimeout) return s;
 
   Diagnostics io;
   if (!make_output_directory(options.output_dir, io)) {

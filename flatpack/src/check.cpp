@@ -241,9 +241,19 @@ Analysis check(const Design& design, const CheckOptions& options) {
   for (CycleResidual& r : a.residuals) r.frame(2, 3) -= min_z;
   a.placed = true;
   clock.lap("place");
+  auto stopped_after = [&](const char* stage, const char* left) {
+    if (!options.deadline || std::chrono::steady_clock::now() <= *options.deadline) return false;
+    a.diagnostics.error(codes::kTimeLimit,
+                        fmt::format("stopped at the deadline after {}; {} not done", stage, left));
+    return true;
+  };
+  if (stopped_after("placing the pieces", "joints and the assembly order were")) return a;
 
   detail::detect_and_cut(a, resolved, design.joints, design.labels, options);
   clock.lap("detect+joints");
+  if (options.assembly_order && stopped_after("cutting the joints", "the assembly order was")) {
+    return a;
+  }
   if (options.assembly_order) {
     detail::plan_assembly(a);
     clock.lap("assembly");

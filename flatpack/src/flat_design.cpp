@@ -179,7 +179,9 @@ struct Flattener {
           const bool known = param.find('.') != std::string::npos || param == "thickness" ||
                              std::any_of(used.parameters.begin(),
                                          used.parameters.end(),
-                                         [&](const DesignParameter& p) { return p.name == param; });
+                                         [&name = param](const DesignParameter& p) {
+                                           return p.name == name;  // (clang 14: no binding capture)
+                                         });
           if (!known) {
             std::vector<std::string> names;
             for (const DesignParameter& p : used.parameters) names.push_back(p.name);

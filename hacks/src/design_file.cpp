@@ -3,12 +3,14 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <chrono>
 #include <cmath>
 #include <set>
 
 #include "fabkit/core/file_io.h"
 #include "fabkit/core/text.h"
 #include "fabkit/core/yaml_reader.h"
+#include "fabkit/hacks/deadline.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 #include "fabkit/hacks/primitive_spec.h"
 
@@ -62,6 +64,32 @@ class Reader {
     if (auto n = root["name"]) design.name = scalar(n, "name");
     if (auto d = root["description"]) design.description = scalar(d, "description");
 
+    // Size limits before any work (parts made, part files read, connects verified).
+    if (options_.max_parts > 0) {
+      std::size_t count = 0;
+      for (const char* key : {"environment", "parts"}) {
+        if (auto n = root[key]; n && n.IsSequence()) count += n.size();
+      }
+      if (root["target"]) ++count;
+      if (count > static_cast<std::size_t>(options_.max_parts)) {
+        error(
+            codes::kLimitExceeded,
+            fmt::format("the design has {} parts; the limit here is {}", count, options_.max_parts),
+            SourceLocation{file_, 1, 1});
+        return;
+      }
+    }
+    if (auto conns = root["connections"];
+        conns && conns.IsSequence() && options_.max_connections > 0 &&
+        conns.size() > static_cast<std::size_t>(options_.max_connections)) {
+      error(codes::kLimitExceeded,
+            fmt::format("the design has {} connections; the limit here is {}",
+                        conns.size(),
+                        options_.max_connections),
+            at(conns));
+      return;
+    }
+
     PartsLibrary local = library_;
     const PartsLibrary* lib = &library_;
     if (auto files = root["part_files"]) {
@@ -112,20 +140,6 @@ class Reader {
         for (const auto& p : parts) declare_part(p, *lib, design, /*is_target=*/false);
       }
     }
-    if (options_.max_parts > 0) {
-      std::size_t count = 0;
-      for (const char* key : {"environment", "parts"}) {
-        if (auto n = root[key]; n && n.IsSequence()) count += n.size();
-      }
-      if (root["target"]) ++count;
-      if (count > static_cast<std::size_t>(options_.max_parts)) {
-        error(
-            codes::kLimitExceeded,
-            fmt::format("the design has {} parts; the limit here is {}", count, options_.max_parts),
-            SourceLocation{file_, 1, 1});
-        return;
-      }
-    }
     YAML::Node target = root["target"];
     if (target) declare_part(target, *lib, design, /*is_target=*/true);
 
@@ -133,14 +147,6 @@ class Reader {
     if (auto conns = root["connections"]) {
       if (!conns.IsSequence()) {
         error(codes::kMalformedInput, "connections must be a list", at(conns));
-      } else if (options_.max_connections > 0 &&
-                 conns.size() > static_cast<std::size_t>(options_.max_connections)) {
-        error(codes::kLimitExceeded,
-              fmt::format("the design has {} connections; the limit here is {}",
-                          conns.size(),
-                          options_.max_connections),
-              at(conns));
-        return;
       } else {
         for (const auto& c : conns) parse_connection(c, design, connects);
       }
@@ -162,7 +168,17 @@ class Reader {
       design.steps.push_back(std::move(step));
     }
     std::set<const Part*> missing;  // parts whose introducing connect failed
+    const auto& deadline = options_.verify.deadline;
+    auto past_deadline = [&] { return deadline && std::chrono::steady_clock::now() > *deadline; };
+    std::size_t verified = 0;
+    bool stopped = false;
     for (const ConnectDecl& c : connects) {
+      if (past_deadline()) {
+        stop_at_deadline(design, connects, verified, c.where);
+        stopped = true;
+        break;
+      }
+      ++verified;
       DesignStep step;
       step.kind = DesignStep::Kind::kConnect;
       step.where = c.where;
@@ -189,6 +205,7 @@ class Reader {
       }
       step.report = design.assembly.connect(c.a, c.b, c.options);
       step.accepted = step.report.accepted;
+      if (!step.accepted) mark_cut_by_deadline(step.report, options_.verify);
       if (!step.accepted) {
         if (!a_in) missing.insert(c.a.part.get());
         if (!b_in) missing.insert(c.b.part.get());
@@ -196,7 +213,7 @@ class Reader {
       diags_.append(step.report.diagnostics);
       design.steps.push_back(std::move(step));
     }
-    if (tdecl.part) {
+    if (tdecl.part && !stopped) {
       DesignStep step;
       step.kind = DesignStep::Kind::kEndWith;
       step.where = tdecl.where;
@@ -217,11 +234,36 @@ class Reader {
       design.steps.push_back(std::move(step));
     }
     for (const auto& [name, part] : design.parts) {
+      if (stopped) break;  // unverified connects: "never connected" would be wrong
       if (!design.assembly.find(part.get()) && !missing.count(part.get())) {
         diags_.warning(codes::kNotConnected,
                        fmt::format("part {} is declared but never connected", name),
                        declared_at_[name]);
       }
+    }
+  }
+
+  // The verification's deadline passed before `where`: the remaining connects are not tried.
+  template <typename Connects>
+  void stop_at_deadline(Design& design,
+                        const Connects& connects,
+                        std::size_t verified,
+                        const SourceLocation& where) {
+    diags_.error(codes::kTimeLimit,
+                 fmt::format("stopped at the deadline after {} iteration{} (connects verified, of "
+                             "{}); this connect and the {} after it were not verified",
+                             verified,
+                             verified == 1 ? "" : "s",
+                             connects.size(),
+                             connects.size() - verified - 1),
+                 where);
+    for (std::size_t k = verified; k < connects.size(); ++k) {
+      DesignStep step;
+      step.kind = DesignStep::Kind::kConnect;
+      step.where = connects[k].where;
+      step.text = fmt::format("connect {}, {}", connects[k].text_a, connects[k].text_b);
+      step.skipped = true;
+      design.steps.push_back(std::move(step));
     }
   }
 
@@ -297,8 +339,10 @@ class Reader {
         if (auto v = number(kv.second, fmt::format("parameter {}", key))) values[key] = *v;
       }
     }
+    const std::optional<std::string> part_name = in_.string(type, "part");
+    if (!part_name) return nullptr;  // said why (not text, not UTF-8, too long)
     Diagnostics d;
-    auto part = lib.make(scalar(type, "part"), values, d, at(type));
+    auto part = lib.make(*part_name, values, d, at(type));
     diags_.append(d);
     return part;
   }
@@ -350,7 +394,9 @@ class Reader {
             at(n));
       return "";
     }
-    const std::string s = in_.string(name, "name", 128).value_or("");
+    const std::optional<std::string> read = in_.string(name, "name", 128);
+    if (!read) return "";  // said why (not text, not UTF-8, too long)
+    const std::string& s = *read;
     if (s.empty() || s.find('.') != std::string::npos) {
       error(codes::kMalformedInput,
             fmt::format("name '{}' must be non-empty and contain no '.'", excerpt(s, 60)),

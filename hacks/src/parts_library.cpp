@@ -351,8 +351,9 @@ std::shared_ptr<Part> PartsLibrary::make(std::string_view name,
   std::vector<std::string> valid;
   for (const ParamSchema& s : gen->params) valid.push_back(s.name);
   for (const auto& [key, value] : params) {
+    const std::string& wanted = key;  // (clang 14 cannot capture a structured binding)
     const auto it = std::find_if(gen->params.begin(), gen->params.end(), [&](const ParamSchema& s) {
-      return s.name == key;
+      return s.name == wanted;
     });
     if (it == gen->params.end()) {
       std::string msg;

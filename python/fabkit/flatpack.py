@@ -26,6 +26,7 @@ Every camelCase method has a snake_case twin (add_subcomponent, ...). Problems r
 import json
 import os
 
+from . import _fabkit
 from ._fabkit import flatpack as _k
 
 __all__ = ["Component", "FingerJoint", "check_file", "build_file"]
@@ -155,9 +156,10 @@ class Component:
             d["sheet"] = self._sheet
         return json.dumps(d, indent=1)
 
-    def check(self):
-        """Places, detects and cuts; returns the report (dict: counts, pieces, joints, ...)."""
-        return _k.check(self.design_text(), f"{self.name}.yaml", os.getcwd())
+    def check(self, time_limit=None):
+        """Places, detects and cuts; returns the report (dict: counts, pieces, joints, ...).
+        Raises TimeLimitError past ``time_limit`` seconds."""
+        return _k.check(self.design_text(), f"{self.name}.yaml", os.getcwd(), time_limit)
 
     def toYaml(self, path):
         """Saves the design as a flatpack/1 design file (usable with `uses:` and fabkit build)."""
@@ -165,11 +167,10 @@ class Component:
         directory = os.path.dirname(path)
         if directory:
             os.makedirs(directory, exist_ok=True)
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(text)
+        _fabkit.write_text_file(str(path), text)  # atomically; never through a FIFO or link
         return path
 
-    def makeOutput(self, path, tree=False, display=False, thickness=None, joint=None):
+    def makeOutput(self, path, tree=False, display=False, thickness=None, joint=None, time_limit=None):
         """Writes the cut sheets (SVG, DXF), model.stl, scene.glb and report.json into `path`.
         `thickness` and `joint` set the material (paper Fig. 3); tree and display are accepted
         for the paper's programs and do nothing."""
@@ -178,7 +179,8 @@ class Component:
         if thickness is not None:
             self._material["thickness"] = float(thickness)
         os.makedirs(path, exist_ok=True)
-        return _k.build(self.design_text(), f"{self.name}.yaml", os.getcwd(), os.path.abspath(path))
+        return _k.build(self.design_text(), f"{self.name}.yaml", os.getcwd(), os.path.abspath(path),
+                        time_limit)
 
     # -- snake_case twins ---------------------------------------------------------------------
     add_subcomponent = addSubcomponent
@@ -192,13 +194,19 @@ class Component:
     make_output = makeOutput
 
 
-def check_file(path):
-    """Checks a design file; returns the report dict."""
-    with open(path, encoding="utf-8") as f:
-        return _k.check(f.read(), str(path), os.path.dirname(os.path.abspath(path)))
+def _read_design(path):
+    # A regular file of at most 16 MiB (not a FIFO or /dev/zero), as the command line reads it.
+    return _fabkit.read_text_file(str(path), "design file")
 
 
-def build_file(path, output_dir):
-    """Builds a design file's outputs into output_dir; returns the report dict."""
-    with open(path, encoding="utf-8") as f:
-        return _k.build(f.read(), str(path), os.path.dirname(os.path.abspath(path)), os.path.abspath(output_dir))
+def check_file(path, time_limit=None):
+    """Checks a design file; returns the report dict. Raises TimeLimitError past
+    ``time_limit`` seconds."""
+    return _k.check(_read_design(path), str(path), os.path.dirname(os.path.abspath(path)), time_limit)
+
+
+def build_file(path, output_dir, time_limit=None):
+    """Builds a design file's outputs into output_dir; returns the report dict. Raises
+    TimeLimitError past ``time_limit`` seconds (nothing is written then)."""
+    return _k.build(_read_design(path), str(path), os.path.dirname(os.path.abspath(path)),
+                    os.path.abspath(output_dir), time_limit)

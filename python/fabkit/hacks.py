@@ -17,7 +17,7 @@ Every ``connect`` is verified as it is made; a connection that cannot be made ra
 """
 
 from ._fabkit import hacks as _k
-from ._fabkit import ConnectError, Error, Frame
+from ._fabkit import ConnectError, Error, Frame, TimeLimitError
 from ._sweep import sweep
 
 __all__ = [
@@ -37,26 +37,33 @@ class Assembly:
         """Fixes an environment (a part, or one of its primitives) at ``frame``."""
         self._assembly.add(environment, frame)
 
-    def connect(self, a, b, alignment="default", is_fixed=False):
+    def connect(self, a, b, alignment="default", is_fixed=False, time_limit=None):
         """Connects two primitives (in any order). Raises ConnectError if they cannot be
-        connected; returns True if the connection closes a cycle."""
+        connected, TimeLimitError if verifying a cycle takes longer than ``time_limit``
+        seconds; returns True if the connection closes a cycle."""
         if not isinstance(alignment, str):
             raise TypeError('alignment must be "default" or "flip"')
         if not isinstance(is_fixed, bool):
             raise TypeError("is_fixed must be True or False")
-        return self._assembly.connect(a, b, alignment, is_fixed)
+        return self._assembly.connect(a, b, alignment, is_fixed, time_limit)
 
     def end_with(self, target, frame=None):
         """The target: a part (its first primitive) or a primitive should end at ``frame``."""
         self._assembly.end_with(target, frame)
 
-    def solve(self):
+    def solve(self, time_limit=None):
         """Reaches the target, relaxes under gravity, and says whether the design holds.
 
         Returns a result with ``stable``, ``target_error`` (mm, degrees), ``frames`` (part name
         to Frame), ``slipping``, ``timings_ms``, ``summary()``, ``save_json(path)``,
-        ``save_glb(path)`` and ``save_all(directory)``."""
-        return self._assembly.solve()
+        ``save_glb(path)`` and ``save_all(directory)``. Past ``time_limit`` seconds raises
+        TimeLimitError; its ``result`` is the best result so far."""
+        r = self._assembly.solve(time_limit)
+        if r.termination == "TIMEOUT":
+            e = TimeLimitError(r.stopped_message)
+            e.result = r
+            raise e
+        return r
 
     @property
     def part_count(self):
@@ -122,15 +129,16 @@ class Design:
     """A design file read and verified: ``design.assembly`` (solve it), ``design.parts`` (by the
     names in the file), ``design.name``. Raises fabkit.InputError / InfeasibleError."""
 
-    def __init__(self, path):
-        assembly, self.parts, self.name = _k.load_design(str(path))
+    def __init__(self, path, time_limit=None):
+        assembly, self.parts, self.name = _k.load_design(str(path), time_limit)
         self.assembly = Assembly.__new__(Assembly)
         self.assembly._assembly = assembly
 
 
-def load_design(path):
-    """Reads a hacks design file (``fabkit: hacks/1``, docs/design-format.md)."""
-    return Design(path)
+def load_design(path, time_limit=None):
+    """Reads a hacks design file (``fabkit: hacks/1``, docs/design-format.md); raises
+    TimeLimitError when verifying it takes longer than ``time_limit`` seconds."""
+    return Design(path, time_limit)
 
 
 # Every part of the library under its paper/reference name (and aliases such as

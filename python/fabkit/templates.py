@@ -101,16 +101,18 @@ class Model:
         sizes), the total and the same as CSV."""
         return self._m.bom()
 
-    def build(self, directory):
+    def build(self, directory, time_limit=None):
         """Writes bom.csv, bom.json, report.html, cut diagrams, scene.glb, stability.glb,
-        model.stl and model.json into ``directory``."""
-        return self._m.build(str(directory))
+        model.stl and model.json into ``directory``. Raises TimeLimitError (nothing written)
+        when the check takes longer than ``time_limit`` seconds."""
+        return self._m.build(str(directory), time_limit)
 
     def describe(self):
         """The model's template tree, items, visible controls and connections as text."""
         return self._m.describe()
 
 
-def load(path, database=None):
-    """A model from a ``fabkit: templates/1`` file (composed step by step)."""
-    return Model._wrap(_k.Model.load(str(path), database))
+def load(path, database=None, time_limit=None):
+    """A model from a ``fabkit: templates/1`` file (composed step by step). Raises
+    TimeLimitError when composing takes longer than ``time_limit`` seconds."""
+    return Model._wrap(_k.Model.load(str(path), database, time_limit))

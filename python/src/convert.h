@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <pybind11/pybind11.h>
 
+#include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "fabkit/core/frame.h"
 
@@ -28,6 +30,30 @@ inline Vec3 to_vec3(const py::handle& h, const char* what) {
     if (!std::isfinite(v[i])) throw py::value_error(fmt::format("{} has a non-finite value", what));
   }
   return v;
+}
+
+/// Seconds of a `time_limit=` argument: None (no limit) or a number in (0, 1e6];
+/// TypeError/ValueError otherwise.
+inline std::optional<double> time_limit_seconds(const py::handle& time_limit) {
+  if (time_limit.is_none()) return std::nullopt;
+  if (py::isinstance<py::bool_>(time_limit) ||
+      !(py::isinstance<py::int_>(time_limit) || py::isinstance<py::float_>(time_limit))) {
+    throw py::type_error("time_limit must be a number of seconds (or None)");
+  }
+  const double s = time_limit.cast<double>();
+  if (!(s > 0) || !(s <= 1e6)) {
+    throw py::value_error(fmt::format("time_limit must be between 0 and 1e6 seconds, not {}", s));
+  }
+  return s;
+}
+
+/// The deadline `time_limit` seconds from now, or none.
+inline std::optional<std::chrono::steady_clock::time_point> deadline_from(
+    const py::handle& time_limit) {
+  const auto s = time_limit_seconds(time_limit);
+  if (!s) return std::nullopt;
+  return std::chrono::steady_clock::now() +
+         std::chrono::microseconds(static_cast<long long>(*s * 1e6));
 }
 
 }  // namespace fabkit::python

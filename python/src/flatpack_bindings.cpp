@@ -3,6 +3,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "convert.h"
 #include "errors.h"
 #include "fabkit/core/json.h"
 #include "fabkit/flatpack/build.h"
@@ -31,21 +32,29 @@ py::object to_python(const Json& j) {
 void fabkit::python::bind_flatpack(py::module_ m) {
   m.def(
       "check",
-      [](const std::string& text, const std::string& name, const std::string& base_dir) {
+      [](const std::string& text,
+         const std::string& name,
+         const std::string& base_dir,
+         const py::object& time_limit) {
         const Design design = read(text, name, base_dir);
+        CheckOptions o;
+        o.deadline = python::deadline_from(time_limit);
         BuildSummary s;
         {
           py::gil_scoped_release release;
-          s.analysis = check(design);
+          s.analysis = check(design, o);
         }
         s.diagnostics = s.analysis.diagnostics;
         s.timings = s.analysis.timings;
-        if (!s.analysis.placed) python::raise_diagnostics(s.diagnostics);
+        if (!s.analysis.placed || s.diagnostics.has_errors_of(DiagnosticClass::kTimeout)) {
+          python::raise_diagnostics(s.diagnostics);
+        }
         return to_python(report_json(s));
       },
       py::arg("text"),
       py::arg("name") = "design.yaml",
       py::arg("base_dir") = "",
+      py::arg("time_limit") = py::none(),
       "Checks a design (design-file text): placement, joints, warnings; returns report.json's "
       "content.");
   m.def(
@@ -53,10 +62,12 @@ void fabkit::python::bind_flatpack(py::module_ m) {
       [](const std::string& text,
          const std::string& name,
          const std::string& base_dir,
-         const std::string& output_dir) {
+         const std::string& output_dir,
+         const py::object& time_limit) {
         const Design design = read(text, name, base_dir);
         BuildOptions o;
         o.output_dir = output_dir;
+        o.deadline = python::deadline_from(time_limit);
         BuildSummary s;
         {
           py::gil_scoped_release release;
@@ -69,6 +80,7 @@ void fabkit::python::bind_flatpack(py::module_ m) {
       py::arg("name"),
       py::arg("base_dir"),
       py::arg("output_dir"),
+      py::arg("time_limit") = py::none(),
       "Builds every output of a design into output_dir; returns report.json's content.");
   m.def(
       "to_yaml",

@@ -14,6 +14,7 @@
 #include "errors.h"
 #include "fabkit/core/file_io.h"
 #include "fabkit/hacks/assembly.h"
+#include "fabkit/hacks/deadline.h"
 #include "fabkit/hacks/design_file.h"
 #include "fabkit/hacks/parts_library.h"
 #include "fabkit/hacks/primitive_spec.h"
@@ -172,10 +173,10 @@ struct Solved {
   SolveResult result;
 };
 
-Solved solve_one(const Assembly& a) {
+Solved solve_one(const Assembly& a, const SolveOptions& options = {}) {
   Solved s;
   s.assembly = std::make_shared<const Assembly>(a);
-  s.result = solve(*s.assembly);
+  s.result = solve(*s.assembly, options);
   return s;
 }
 
@@ -274,14 +275,17 @@ void fabkit::python::bind_hacks(py::module_ m) {
       "Adds the parts of a YAML part file (docs/parts.md); returns their names and aliases.");
   m.def(
       "load_design",
-      [](const std::filesystem::path& path) {
-        Design d = load_design(path, library());
+      [](const std::filesystem::path& path, const py::object& time_limit) {
+        DesignOptions o;
+        o.verify.deadline = python::deadline_from(time_limit);
+        Design d = load_design(path, library(), o);
         if (d.diagnostics.has_errors()) python::raise_diagnostics(d.diagnostics);
         py::dict parts;
         for (const auto& [name, part] : d.parts) parts[py::str(name)] = part;
         return py::make_tuple(py::cast(std::move(d.assembly)), parts, d.name);
       },
       py::arg("path"),
+      py::arg("time_limit") = py::none(),
       "Reads a hacks design file and verifies every connect: (assembly, parts by name, name).");
   m.def("part_names", [] {
     std::vector<std::string> names;
@@ -314,7 +318,8 @@ void fabkit::python::bind_hacks(py::module_ m) {
              const py::object& p1,
              const py::object& p2,
              const std::string& alignment,
-             bool is_fixed) {
+             bool is_fixed,
+             const py::object& time_limit) {
             if (!py::isinstance<PrimitiveRef>(p1) || !py::isinstance<PrimitiveRef>(p2)) {
               const py::object& bad = py::isinstance<PrimitiveRef>(p1) ? p2 : p1;
               if (py::isinstance<Part>(bad)) {
@@ -335,9 +340,11 @@ void fabkit::python::bind_hacks(py::module_ m) {
             ConnectOptions o;
             o.alignment = *choice;
             o.fixed = is_fixed;
-            const ConnectReport r = a.connect(p1.cast<PrimitiveRef>(), p2.cast<PrimitiveRef>(), o);
+            o.verify.deadline = python::deadline_from(time_limit);
+            ConnectReport r = a.connect(p1.cast<PrimitiveRef>(), p2.cast<PrimitiveRef>(), o);
             if (!r.accepted) {
-              if (r.diagnostics.deciding_class() == DiagnosticClass::kInput) {
+              if (mark_cut_by_deadline(r, o.verify) ||
+                  r.diagnostics.deciding_class() == DiagnosticClass::kInput) {
                 python::raise_diagnostics(r.diagnostics);
               }
               raise(python::errors().connect, messages(r.diagnostics));
@@ -347,7 +354,8 @@ void fabkit::python::bind_hacks(py::module_ m) {
           py::arg("a"),
           py::arg("b"),
           py::arg("alignment") = "default",
-          py::arg("is_fixed") = false)
+          py::arg("is_fixed") = false,
+          py::arg("time_limit") = py::none())
       .def("end_with",
            [](Assembly& a, const py::object& target, const py::object& frame) {
              const Diagnostics d =
@@ -357,10 +365,15 @@ void fabkit::python::bind_hacks(py::module_ m) {
              if (d.has_errors()) python::raise_diagnostics(d);
            })
       .def_property_readonly("part_count", &Assembly::part_count)
-      .def("solve", [](const Assembly& a) {
-        py::gil_scoped_release release;
-        return solve_one(a);
-      });
+      .def(
+          "solve",
+          [](const Assembly& a, const py::object& time_limit) {
+            SolveOptions o;
+            o.deadline = python::deadline_from(time_limit);
+            py::gil_scoped_release release;
+            return solve_one(a, o);
+          },
+          py::arg("time_limit") = py::none());
 
   py::class_<Solved>(m, "SolveResult")
       .def_property_readonly("stable", [](const Solved& s) { return s.result.stable; })
@@ -418,6 +431,8 @@ void fabkit::python::bind_hacks(py::module_ m) {
                                return d;
                              })
       .def_property_readonly("message", [](const Solved& s) { return s.result.message; })
+      .def_property_readonly("stopped_message",
+                             [](const Solved& s) { return stopped_at_deadline(s.result, {}); })
       .def("summary", [](const Solved& s) { return s.result.summary(); })
       .def(
           "to_json",

@@ -5,10 +5,14 @@
 #include <fmt/format.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
+#include "construction_guard.h"
 #include "convert.h"
 #include "errors.h"
+#include "fabkit/core/file_io.h"
 #include "fabkit/core/frame.h"
+#include "fabkit/core/text.h"
 #include "kits.h"
 
 namespace py = pybind11;
@@ -49,8 +53,46 @@ PYBIND11_MODULE(_fabkit, m) {
                            f.rot.z());
       });
 
+  // Files the pure-Python layer reads and writes go through the library's readers and writers:
+  // regular files only, at most 16 MiB, checked UTF-8; written atomically, never through a
+  // FIFO, a device or a link out of its directory.
+  m.def(
+      "read_text_file",
+      [](const std::filesystem::path& path, const std::string& what) {
+        Diagnostics d;
+        std::optional<std::string> text;
+        {
+          py::gil_scoped_release release;
+          text = read_input_file(path, what, d);
+        }
+        if (!text) python::raise_diagnostics(d);
+        if (!is_valid_utf8(*text)) {
+          d.error(codes::kMalformedInput,
+                  fmt::format("{} '{}' is not UTF-8 text", what, excerpt(path.string(), 200)),
+                  SourceLocation{path.string(), 0, 0});
+          python::raise_diagnostics(d);
+        }
+        return *text;
+      },
+      py::arg("path"),
+      py::arg("what") = "file");
+  m.def(
+      "write_text_file",
+      [](const std::filesystem::path& path, const std::string& text) {
+        Diagnostics d;
+        bool ok = false;
+        {
+          py::gil_scoped_release release;
+          ok = write_file_atomically(path, text, d);
+        }
+        if (!ok) python::raise_diagnostics(d);
+      },
+      py::arg("path"),
+      py::arg("text"));
+
   python::bind_hacks(m.def_submodule("hacks", "the FabHaL kit"));
   python::bind_flatpack(m.def_submodule("flatpack", "the flat-pack furniture kit"));
   python::bind_rods(m.def_submodule("rods", "the RodSteward kit"));
   python::bind_templates(m.def_submodule("templates", "the design and fabrication by example kit"));
+  python::guard_construction(m);
 }

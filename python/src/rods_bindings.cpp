@@ -73,12 +73,9 @@ BuildOptions options(unsigned seed, const py::object& time_limit, int threads, b
   o.joint.engrave = engrave;
   o.cut_plan.seed = seed;
   o.threads = threads;
-  if (!time_limit.is_none()) {
-    const double s = time_limit.cast<double>();
-    if (!(s > 0)) throw py::value_error("time_limit must be a positive number of seconds");
-    o.deadline = std::chrono::steady_clock::now() +
-                 std::chrono::microseconds(static_cast<long long>(s * 1e6));
-    o.cut_plan.time_limit_s = std::min(o.cut_plan.time_limit_s, s / 2);
+  if (const auto s = python::time_limit_seconds(time_limit)) {
+    o.deadline = python::deadline_from(time_limit);
+    o.cut_plan.time_limit_s = std::min(o.cut_plan.time_limit_s, *s / 2);
   }
   return o;
 }

@@ -189,17 +189,22 @@ void bind_templates(py::module_ m) {
            py::arg("database") = nullptr)
       .def_static(
           "load",
-          [](const std::filesystem::path& path, const PyDatabase* db) {
+          [](const std::filesystem::path& path,
+             const PyDatabase* db,
+             const py::object& time_limit) {
             Diagnostics d;
             auto text = read_input_file(path, "model file", d);
             if (!text) raise_diagnostics(d);
+            CheckOptions o;
+            o.deadline = deadline_from(time_limit);
             PyModel pm{db ? *db : bundled_db(),
-                       compose_model(*text, path.string(), (db ? *db : bundled_db()).get())};
+                       compose_model(*text, path.string(), (db ? *db : bundled_db()).get(), o)};
             if (pm.composed.diagnostics.has_errors()) raise_diagnostics(pm.composed.diagnostics);
             return pm;
           },
           py::arg("path"),
-          py::arg("database") = nullptr)
+          py::arg("database") = nullptr,
+          py::arg("time_limit") = py::none())
       .def(
           "add",
           [](PyModel& pm,
@@ -374,21 +379,26 @@ void bind_templates(py::module_ m) {
              out["csv"] = bom_csv(*bom);
              return out;
            })
-      .def("build",
-           [](PyModel& pm, const std::filesystem::path& dir) {
-             const BuildSummary s = build(pm.composed, pm.db.get(), dir);
-             if (s.termination == BuildTermination::kNotBuilt ||
-                 s.termination == BuildTermination::kWriteFailed) {
-               raise_diagnostics(s.diagnostics);
-             }
-             py::dict out;
-             out["message"] = s.message;
-             out["verdict"] = s.check.verdict;
-             py::list files;
-             for (const auto& p : s.written) files.append(p.string());
-             out["written"] = files;
-             return out;
-           })
+      .def(
+          "build",
+          [](PyModel& pm, const std::filesystem::path& dir, const py::object& time_limit) {
+            BuildOptions o;
+            o.check.deadline = deadline_from(time_limit);
+            const BuildSummary s = build(pm.composed, pm.db.get(), dir, o);
+            if (s.termination == BuildTermination::kNotBuilt ||
+                s.termination == BuildTermination::kWriteFailed) {
+              raise_diagnostics(s.diagnostics);
+            }
+            py::dict out;
+            out["message"] = s.message;
+            out["verdict"] = s.check.verdict;
+            py::list files;
+            for (const auto& p : s.written) files.append(p.string());
+            out["written"] = files;
+            return out;
+          },
+          py::arg("directory"),
+          py::arg("time_limit") = py::none())
       .def("describe", [](PyModel& pm) { return describe_template(pm.t(), pm.db.get().catalog()); })
       .def_property_readonly("name", [](PyModel& pm) { return pm.composed.name; })
       .def_property_readonly("part_count", [](PyModel& pm) { return pm.t().part_count(); });

@@ -46,7 +46,7 @@ void conclude(Summary& s, bool joints_built) {
       s.message = "cannot be built as designed";
       break;
     case Termination::kTimeLimit:
-      s.message = "stopped at the time limit";
+      s.message = "stopped at the deadline";
       break;
     case Termination::kFailed:
       s.message = "failed";
@@ -90,9 +90,23 @@ Summary analyse(const Design& design,
   }
   const Structure& st = design.structure;
   const Parameters& p = design.parameters;
+  // Between stages: past the deadline, say after which, and stop (the caller concludes).
+  int stages = 0;
+  auto stopped = [&](const char* next) {
+    ++stages;
+    if (!options.deadline || Clock::now() <= *options.deadline) return false;
+    s.diagnostics.error(codes::kTimeLimit,
+                        fmt::format("stopped at the deadline after {} iteration{} (stages of the "
+                                    "check); {} and the rest were not done",
+                                    stages,
+                                    stages == 1 ? "" : "s",
+                                    next));
+    return true;
+  };
   auto t = Clock::now();
   s.layout = compute_layout(st, p);
   s.timings.emplace_back("layout", ms_since(t));
+  if (stopped("the fabrication checks")) return s;
 
   t = Clock::now();
   CheckOptions checks = options.checks;
@@ -102,6 +116,7 @@ Summary analyse(const Design& design,
   s.checks = check(st, p, s.layout, checks, masses);
   s.diagnostics.append(s.checks.findings);
   s.timings.emplace_back("checks", ms_since(t));
+  if (stopped("the frame analysis")) return s;
 
   if (options.frame_analysis) {
     t = Clock::now();
@@ -115,6 +130,7 @@ Summary analyse(const Design& design,
         st, p, s.layout, fo, masses.empty() ? std::span<const JointMass>(estimated) : masses);
     s.diagnostics.append(s.frame.findings);
     s.timings.emplace_back("frame analysis", ms_since(t));
+    if (stopped("the cut plan")) return s;
   }
 
   if (previous) {
@@ -206,8 +222,10 @@ Summary check(const Design& design, const BuildOptions& options) {
 
 Summary build(const Design& design, const BuildOptions& options) {
   Summary first = check(design, options);
-  if (first.termination == Termination::kFailed || first.termination == Termination::kInfeasible)
+  if (first.termination == Termination::kFailed || first.termination == Termination::kInfeasible ||
+      first.termination == Termination::kTimeLimit) {
     return first;
+  }
   Summary& s = first;
   const Structure& st = design.structure;
   const Parameters& p = design.parameters;
@@ -249,7 +267,11 @@ Summary build(const Design& design, const BuildOptions& options) {
   if (timed_out) {
     s.diagnostics.error(
         codes::kTimeLimit,
-        fmt::format("stopped at the time limit after {} of {} joints", done.load(), n));
+        fmt::format("stopped at the deadline after {} iteration{} (joints built, of {}); nothing "
+                    "is written without every joint",
+                    done.load(),
+                    done.load() == 1 ? "" : "s",
+                    n));
   }
   bool all = !timed_out;
   for (auto& j : made) {

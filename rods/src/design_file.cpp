@@ -140,7 +140,8 @@ class Reader {
     // Parameter rules that span keys (ε below σ, ...) are checked on the whole; each message
     // points at the key it starts with, when the file has it.
     auto key = [&](const char* section, const char* name) {
-      return root[section] ? root[section][name] : YAML::Node();
+      const YAML::Node parent = root[section];
+      return parent && parent.IsMap() ? parent[name] : YAML::Node();
     };
     const std::vector<std::pair<std::string_view, YAML::Node>> keys = {
         {"rod radius", key("rod", "radius") ? key("rod", "radius") : key("rod", "diameter")},
@@ -491,7 +492,17 @@ Design load_design_text(std::string_view yaml,
                         const DesignOptions& options) {
   Design d;
   Reader reader(std::string(display_name), base_dir, options, d.diagnostics);
-  reader.run(yaml, d);
+  try {
+    reader.run(yaml, d);
+  } catch (const std::exception& e) {
+    // A shape of YAML the reader did not expect (yaml-cpp throws on a subscript of a scalar):
+    // a finding at the file, never an abort.
+    d = Design{};
+    d.diagnostics.error(
+        codes::kMalformedInput,
+        fmt::format("the file could not be read as a rods design ({})", excerpt(e.what(), 200)),
+        SourceLocation{std::string(display_name), 0, 0});
+  }
   d.readable = !d.diagnostics.has_errors_of(DiagnosticClass::kInput) && !d.structure.nodes.empty();
   return d;
 }

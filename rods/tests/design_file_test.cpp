@@ -89,6 +89,20 @@ TEST(DesignFile, ErrorsNameFileLineAndWhatIsWrong) {
   EXPECT_FALSE(read(std::string(kHeader) + "rod: {radius: -2}\n" + net).readable);
 }
 
+TEST(DesignFile, UnexpectedShapesAreFindingsNotAborts) {
+  // Found by fuzz/rods_design_fuzzer: `rod:` as a scalar made yaml-cpp throw BadSubscript
+  // (an abort) where the parameter checks look up rod.radius.
+  const std::string net = "nodes:\n  - [0, 0, 0]\n  - [100, 0, 0]\nedges:\n  - [1, 2]\n";
+  for (const std::string& body : {std::string("rod: 0, 0, 0]\n") + net,
+                                  std::string("joint: [1, 2]\nrod: {radius: -1}\n") + net,
+                                  std::string("stock: 5\nrod: {radius: 0}\n") + net}) {
+    const Design d = read(std::string(kHeader) + body);
+    EXPECT_FALSE(d.readable) << body;
+    EXPECT_TRUE(d.diagnostics.has_errors()) << body;
+    for (const Diagnostic& x : d.diagnostics) EXPECT_EQ(x.where.file, "d.yaml") << x.message;
+  }
+}
+
 TEST(DesignFile, NetworkFromObjLinesAndFaces) {
   const auto dir = std::filesystem::temp_directory_path() / "fabkit_rods_obj_test";
   std::filesystem::create_directories(dir);

@@ -2,11 +2,13 @@
 #include "kit_api.h"
 
 // clang-format off
+#include "fabkit/hacks/deadline.h"
 #include "fabkit/hacks/design_file.h"
 #include "fabkit/hacks/parts_library.h"
 #include "fabkit/hacks/solution_export.h"
 #include "fabkit/hacks/solve.h"
 #include "fabkit/core/gltf.h"
+#include "fabkit/core/text.h"
 // clang-format on
 
 #include <fmt/format.h>
@@ -59,8 +61,8 @@ Design load(const ApiContext& context,
 }
 
 // 400 for input errors (the file cannot be understood), with every diagnostic.
-bool reject_input(const Design& d, httplib::Response& res) {
-  if (d.readable && !d.diagnostics.has_errors_of(DiagnosticClass::kInput)) return false;
+std::optional<JobAnswer> reject_input(const Design& d) {
+  if (d.readable && !d.diagnostics.has_errors_of(DiagnosticClass::kInput)) return std::nullopt;
   std::string first = "the design cannot be read";
   for (const Diagnostic& x : d.diagnostics) {
     if (x.severity == Severity::kError) {
@@ -68,8 +70,37 @@ bool reject_input(const Design& d, httplib::Response& res) {
       break;
     }
   }
-  reply_error(res, 400, first, to_json(d.diagnostics));
-  return true;
+  return error_answer(400, first, to_json(d.diagnostics));
+}
+
+// The parts library as the editor lists it; the library is fixed once the server runs, so it
+// is made once.
+std::string parts_json(const PartsLibrary& lib) {
+  json parts = json::array();
+  for (const PartGenerator& g : lib.generators()) {
+    Diagnostics d;
+    const auto part = lib.make(g.name, {}, d);
+    if (!part) continue;
+    json prims = json::array();
+    for (const Primitive& p : part->primitives) prims.push_back(primitive_json(p));
+    json params = json::array();
+    for (const ParamSchema& s : g.params) {
+      params.push_back({{"name", s.name},
+                        {"default", s.default_value},
+                        {"min", s.min},
+                        {"max", s.max},
+                        {"unit", s.unit},
+                        {"doc", s.doc}});
+    }
+    parts.push_back({{"name", g.name},
+                     {"aliases", g.aliases},
+                     {"description", g.description},
+                     {"category", std::string(to_string(g.category))},
+                     {"mass", part->mass},
+                     {"params", params},
+                     {"primitives", prims}});
+  }
+  return dump_json(parts);
 }
 
 }  // namespace
@@ -87,34 +118,11 @@ KitApi hacks_api(const ApiContext& context) {
   api.also_at_root = true;
   using M = ApiRoute::Method;
 
+  auto parts_answer = std::make_shared<std::string>(parts_json(*library));
   api.routes.push_back(
-      {M::kGet, "parts", [library](const httplib::Request&, httplib::Response& res) {
-         json parts = json::array();
-         const PartsLibrary& lib = *library;
-         for (const PartGenerator& g : lib.generators()) {
-           Diagnostics d;
-           const auto part = lib.make(g.name, {}, d);
-           if (!part) continue;
-           json prims = json::array();
-           for (const Primitive& p : part->primitives) prims.push_back(primitive_json(p));
-           json params = json::array();
-           for (const ParamSchema& s : g.params) {
-             params.push_back({{"name", s.name},
-                               {"default", s.default_value},
-                               {"min", s.min},
-                               {"max", s.max},
-                               {"unit", s.unit},
-                               {"doc", s.doc}});
-           }
-           parts.push_back({{"name", g.name},
-                            {"aliases", g.aliases},
-                            {"description", g.description},
-                            {"category", std::string(to_string(g.category))},
-                            {"mass", part->mass},
-                            {"params", params},
-                            {"primitives", prims}});
-         }
-         reply(res, 200, parts);
+      {M::kGet, "parts", [parts_answer](const httplib::Request&, httplib::Response& res) {
+         res.status = 200;
+         res.set_content(*parts_answer, "application/json");
        }});
 
   api.routes.push_back(
@@ -128,7 +136,10 @@ KitApi hacks_api(const ApiContext& context) {
            const double v = std::strtod(value.c_str(), &end);
            if (end == value.c_str() || *end != '\0') {
              reply_error(
-                 res, 400, fmt::format("parameter {} must be a number, not '{}'", key, value));
+                 res,
+                 400,
+                 fmt::format(
+                     "parameter {} must be a number, not '{}'", excerpt(key), excerpt(value)));
              return;
            }
            values[key] = v;
@@ -150,12 +161,15 @@ KitApi hacks_api(const ApiContext& context) {
   // Two-way filtering: which of the candidate primitives can connect to the picked one
   // (paper Table 1, closedness, sizes), each with the reason when not.
   api.routes.push_back(
-      {M::kPost, "compatible", [library](const httplib::Request& req, httplib::Response& res) {
+      {M::kPost,
+       "compatible",
+       [library](const httplib::Request& req, httplib::Response& res) {
          json body;
          try {
            body = json::parse(req.body);
          } catch (const json::exception& e) {
-           reply_error(res, 400, fmt::format("the request is not JSON: {}", e.what()));
+           reply_error(
+               res, 400, fmt::format("the request is not JSON: {}", excerpt(e.what(), 200)));
            return;
          }
          auto primitive_of =
@@ -233,7 +247,9 @@ KitApi hacks_api(const ApiContext& context) {
            out.push_back({{"ok", ok}, {"reason", ok ? "" : messages_of(d)}});
          }
          reply(res, 200, out);
-       }});
+       },
+       // Light: table lookups and size rules, answered on the request thread.
+       ApiRoute::Load::kLight});
 
   // Geometry of a loose primitive (an environment made of primitives, e.g. a table
   // surface): the primitive's own coordinates, sizes from the query (mm, degrees).
@@ -243,7 +259,8 @@ KitApi hacks_api(const ApiContext& context) {
        [](const httplib::Request& req, httplib::Response& res) {
          const auto type = primitive_type_from_string(req.matches[1].str());
          if (!type) {
-           reply_error(res, 404, fmt::format("unknown primitive type '{}'", req.matches[1].str()));
+           reply_error(
+               res, 404, fmt::format("unknown primitive type '{}'", excerpt(req.matches[1].str())));
            return;
          }
          Primitive p = Primitive::make(std::string(to_string(*type)), *type, {});
@@ -251,13 +268,15 @@ KitApi hacks_api(const ApiContext& context) {
            double* field = shape_field(p.shape, key);
            const auto names = shape_field_names(*type);
            if (!field || std::find(names.begin(), names.end(), key) == names.end()) {
-             reply_error(res, 400, fmt::format("a {} has no size '{}'", to_string(*type), key));
+             reply_error(
+                 res, 400, fmt::format("a {} has no size '{}'", to_string(*type), excerpt(key)));
              return;
            }
            char* end = nullptr;
            *field = std::strtod(value.c_str(), &end);
            if (end == value.c_str() || *end != '\0') {
-             reply_error(res, 400, fmt::format("{} must be a number, not '{}'", key, value));
+             reply_error(
+                 res, 400, fmt::format("{} must be a number, not '{}'", key, excerpt(value)));
              return;
            }
          }
@@ -273,86 +292,91 @@ KitApi hacks_api(const ApiContext& context) {
        }});
 
   api.routes.push_back(
+      // Heavy (a POST): the server runs it on its job queue (kit_api.h, ApiRoute::load).
       {M::kPost, "check", [context, library](const httplib::Request& req, httplib::Response& res) {
-         const Design d = load(context, *library, req.body, context.deadline());
-         if (reject_input(d, res)) return;
-         json steps = json::array();
-         for (const DesignStep& s : d.steps) {
-           json step = {{"text", s.text},
-                        {"line", s.where.line},
-                        {"accepted", s.accepted},
-                        {"skipped", s.skipped},
-                        {"closes_cycle", s.report.closes_cycle},
-                        {"cycles", s.report.cycles},
-                        {"milliseconds", s.report.milliseconds},
-                        {"diagnostics", to_json(s.report.diagnostics)}};
-           if (!s.accepted && !s.report.best_part_frames.empty()) {
-             // How close a cycle came: the best configuration found, one frame per part.
-             json frames = json::array();
-             for (const Frame& f : s.report.best_part_frames) frames.push_back(to_json(f));
-             step["best_part_frames"] = frames;
+         reply(res, [&]() -> JobAnswer {
+           const Design d = load(context, *library, req.body, context.deadline());
+           if (auto refused = reject_input(d)) return *refused;
+           json steps = json::array();
+           for (const DesignStep& s : d.steps) {
+             json step = {{"text", s.text},
+                          {"line", s.where.line},
+                          {"accepted", s.accepted},
+                          {"skipped", s.skipped},
+                          {"closes_cycle", s.report.closes_cycle},
+                          {"cycles", s.report.cycles},
+                          {"milliseconds", s.report.milliseconds},
+                          {"diagnostics", to_json(s.report.diagnostics)}};
+             if (!s.accepted && !s.report.best_part_frames.empty()) {
+               // How close a cycle came: the best configuration found, one frame per part.
+               json frames = json::array();
+               for (const Frame& f : s.report.best_part_frames) frames.push_back(to_json(f));
+               step["best_part_frames"] = frames;
+             }
+             steps.push_back(step);
            }
-           steps.push_back(step);
-         }
-         json parts = json::array();
-         const std::vector<Mat4> frames = d.assembly.part_frames(d.assembly.values());
-         for (int i = 0; i < d.assembly.part_count(); ++i) {
-           parts.push_back(
-               {{"name", d.assembly.label(PartId{i})},
-                {"type", d.assembly.node(PartId{i}).part->type_name},
-                {"frame", to_json(Frame::from_matrix(frames[static_cast<std::size_t>(i)]))}});
-         }
-         reply(res,
+           json parts = json::array();
+           const std::vector<Mat4> frames = d.assembly.part_frames(d.assembly.values());
+           for (int i = 0; i < d.assembly.part_count(); ++i) {
+             parts.push_back(
+                 {{"name", d.assembly.label(PartId{i})},
+                  {"type", d.assembly.node(PartId{i}).part->type_name},
+                  {"frame", to_json(Frame::from_matrix(frames[static_cast<std::size_t>(i)]))}});
+           }
+           return json_answer(
                200,
                {{"valid", d.feasible()},
+                {"stopped_at_deadline", d.diagnostics.has_errors_of(DiagnosticClass::kTimeout)},
                 {"steps", steps},
                 {"parts", parts},
                 {"diagnostics", to_json(d.diagnostics)}});
+         }());
        }});
 
   api.routes.push_back(
       {M::kPost, "solve", [context, library](const httplib::Request& req, httplib::Response& res) {
-         const auto limit = context.deadline();
-         const Design d = load(context, *library, req.body, limit);
-         if (reject_input(d, res)) return;
-         if (!d.feasible()) {
-           reply_error(res, 422, "the design cannot be built", to_json(d.diagnostics));
-           return;
-         }
-         SolveOptions so;
-         so.deadline = limit;
-         const SolveResult r = solve(d.assembly, so);
-         if (r.termination == Termination::kTimeout) {
-           reply_error(res,
-                       503,
-                       fmt::format("the solve took longer than {:g} s and was stopped",
-                                   context.options->solve_timeout_s));
-           return;
-         }
-         if (req.has_param("format") && req.get_param_value("format") == "glb") {
-           Diagnostics dg;
-           const std::optional<std::string> bytes = encode_glb(solution_scene(d.assembly, r), dg);
-           if (!bytes) {
-             reply_error(res, 500, "cannot encode the scene", to_json(dg));
-             return;
+         const bool glb = req.has_param("format") && req.get_param_value("format") == "glb";
+         reply(res, [&]() -> JobAnswer {
+           const auto limit = context.deadline();
+           const Design d = load(context, *library, req.body, limit);
+           if (auto refused = reject_input(d)) return *refused;
+           if (!d.feasible()) {
+             const int status = http_status(d.diagnostics);
+             return error_answer(status,
+                                 status == 503 ? messages_of(d.diagnostics)
+                                               : std::string("the design cannot be built"),
+                                 to_json(d.diagnostics));
            }
-           res.set_content(*bytes, "model/gltf-binary");
-           return;
-         }
-         // result.json, plus for the editor every part's frame after step 1 (before gravity),
-         // so it can show the assembly settling.
-         json out = json::parse(result_json(d.assembly, r, d.name));
-         json step1 = json::array();
-         if (r.step1_parameters.size() == d.assembly.values().size()) {
-           const std::vector<Mat4> frames = d.assembly.part_frames(r.step1_parameters);
-           for (int i = 0; i < d.assembly.part_count(); ++i) {
-             step1.push_back(
-                 {{"name", d.assembly.label(PartId{i})},
-                  {"frame", to_json(Frame::from_matrix(frames[static_cast<std::size_t>(i)]))}});
+           SolveOptions so;
+           so.deadline = limit;
+           const SolveResult r = solve(d.assembly, so);
+           if (r.termination == Termination::kTimeout) {
+             return error_answer(503,
+                                 fmt::format("the solve took longer than {:g} s: {}",
+                                             context.options->solve_timeout_s,
+                                             stopped_at_deadline(r, so)));
            }
-         }
-         out["step1_parts"] = step1;
-         reply(res, 200, out);
+           if (glb) {
+             Diagnostics dg;
+             std::optional<std::string> bytes = encode_glb(solution_scene(d.assembly, r), dg);
+             if (!bytes) return error_answer(500, "cannot encode the scene", to_json(dg));
+             return {200, std::move(*bytes), "model/gltf-binary"};
+           }
+           // result.json, plus for the editor every part's frame after step 1 (before gravity),
+           // so it can show the assembly settling.
+           json out = json::parse(result_json(d.assembly, r, d.name));
+           json step1 = json::array();
+           if (r.step1_parameters.size() == d.assembly.values().size()) {
+             const std::vector<Mat4> frames = d.assembly.part_frames(r.step1_parameters);
+             for (int i = 0; i < d.assembly.part_count(); ++i) {
+               step1.push_back(
+                   {{"name", d.assembly.label(PartId{i})},
+                    {"frame", to_json(Frame::from_matrix(frames[static_cast<std::size_t>(i)]))}});
+             }
+           }
+           out["step1_parts"] = step1;
+           return json_answer(200, out);
+         }());
        }});
   return api;
 }

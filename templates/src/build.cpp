@@ -205,10 +205,12 @@ BuildSummary build(const ComposedModel& cm,
   out.timings.push_back(
       {"check", std::chrono::duration<double, std::milli>(Clock::now() - start).count()});
   out.diagnostics = out.check.diagnostics;
-  if (!cm.readable || !out.check.bom) {
+  if (!cm.readable || !out.check.bom || out.diagnostics.has_errors_of(DiagnosticClass::kTimeout)) {
     out.termination = BuildTermination::kNotBuilt;
     out.message = !cm.readable ? "not built: the model file has errors"
-                               : "not built: a part cannot be cut from any stock size";
+                  : out.diagnostics.has_errors_of(DiagnosticClass::kTimeout)
+                      ? "not built: stopped at the deadline; nothing written"
+                      : "not built: a part cannot be cut from any stock size";
     return out;
   }
   start = Clock::now();

@@ -787,35 +787,22 @@ std::string ItemCatalog::export_csv() const {
 }
 
 bool ItemCatalog::save_as(const std::filesystem::path& path, Diagnostics& diags) const {
-  // VACUUM INTO writes a consistent copy; it goes to a temporary name that is then renamed, so
-  // a reader never sees a half-written database.
-  const std::filesystem::path tmp = path.string() + ".tmp-fabkit";
-  std::error_code ec;
-  std::filesystem::remove(tmp, ec);
+  // The database's image, written like every other output (write_file_atomically): never a
+  // half-written file, never through a FIFO, a device or a link out of its directory.
+  std::string bytes;
   {
     std::lock_guard lock(impl_->mutex);
-    Statement s(impl_->db, "VACUUM INTO ?");
-    if (!s) {
+    sqlite3_int64 size = 0;
+    unsigned char* data = sqlite3_serialize(impl_->db, "main", &size, 0);
+    if (!data) {
       diags.error(codes::kWriteFailed,
                   fmt::format("cannot write {}: {}", path.string(), impl_->error()));
       return false;
     }
-    s.bind(1, tmp.string());
-    if (sqlite3_step(s.stmt) != SQLITE_DONE) {
-      diags.error(codes::kWriteFailed,
-                  fmt::format("cannot write {}: {}", path.string(), impl_->error()));
-      std::filesystem::remove(tmp, ec);
-      return false;
-    }
+    bytes.assign(reinterpret_cast<const char*>(data), static_cast<std::size_t>(size));
+    sqlite3_free(data);
   }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    diags.error(codes::kWriteFailed,
-                fmt::format("cannot write {}: {}", path.string(), ec.message()));
-    std::filesystem::remove(tmp, ec);
-    return false;
-  }
-  return true;
+  return write_file_atomically(path, bytes, diags);
 }
 
 const Item* ItemCatalog::find(std::string_view id) const {

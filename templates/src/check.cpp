@@ -24,6 +24,10 @@ void append_at(Diagnostics& into, const Diagnostics& from, const SourceLocation&
   }
 }
 
+bool past(const CheckOptions& o) {
+  return o.deadline && Clock::now() > *o.deadline;
+}
+
 std::string vec_text(const Vec3& v) {
   return fmt::format("[{:g}, {:g}, {:g}]", v.x(), v.y(), v.z());
 }
@@ -110,8 +114,21 @@ ComposedModel compose_model(std::string_view yaml,
   cm.friction = file_model->friction;
   cm.model = WorkingModel("model");
   bool failed = false;
+  bool stopped = false;
   for (std::size_t i = 0; i < file_model->steps.size(); ++i) {
     const ModelStep& step = file_model->steps[i];
+    if (past(options)) {
+      cm.diagnostics.error(codes::kTimeLimit,
+                           fmt::format("stopped at the deadline after {} iteration{} (model steps "
+                                       "composed, of {}); this step and the rest were not "
+                                       "composed",
+                                       i,
+                                       i == 1 ? "" : "s",
+                                       file_model->steps.size()),
+                           step.where);
+      stopped = true;
+      break;
+    }
     StepReport report;
     report.where = step.where;
     report.text =
@@ -210,6 +227,15 @@ ComposedModel compose_model(std::string_view yaml,
     cm.steps.push_back(std::move(report));
   }
   for (const Adjustment& a : file_model->adjust) {
+    if (stopped) break;
+    if (past(options)) {
+      cm.diagnostics.error(codes::kTimeLimit,
+                           "stopped at the deadline after composing every step; this adjustment "
+                           "and the rest were not made",
+                           a.where);
+      stopped = true;
+      break;
+    }
     const Template& t = cm.model.model();
     const NodeId n = t.find_node_or_element(a.node);
     if (!n.valid()) {
@@ -272,13 +298,28 @@ CheckResult check(const ComposedModel& cm,
                                         std::round(ba.overlap(bb, 2) * 10) / 10));
     }
   }
+  auto stop = [&](const char* before) {
+    if (!cm.diagnostics.has_errors_of(DiagnosticClass::kTimeout)) {
+      out.diagnostics.error(codes::kTimeLimit,
+                            fmt::format("stopped at the deadline before {}", before));
+    }
+    out.verdict = "stopped at the deadline";
+    return out;
+  };
+  if (past(options)) return stop("checking for overlaps");
   StabilityOptions so = options.stability;
   so.friction = cm.friction;
   so.loads = cm.loads;
   out.stability = check_stability(t, db.catalog(), so);
   out.diagnostics.append(out.stability.diagnostics);
+  if (past(options)) return stop("the bill of materials and cut plans");
+  BomOptions bo = options.bom;
+  if (options.deadline) {
+    const double left = std::chrono::duration<double>(*options.deadline - Clock::now()).count();
+    bo.cut_plan.time_limit_s = std::clamp(left / 2, 0.01, bo.cut_plan.time_limit_s);
+  }
   Diagnostics bom_diags;
-  out.bom = bill_of_materials(t, db.catalog(), bom_diags, options.bom);
+  out.bom = bill_of_materials(t, db.catalog(), bom_diags, bo);
   out.diagnostics.append(bom_diags);
   if (out.diagnostics.has_errors_of(DiagnosticClass::kInfeasible)) {
     out.verdict = "infeasible";

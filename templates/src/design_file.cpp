@@ -7,6 +7,7 @@
 #include <cmath>
 #include <set>
 
+#include "fabkit/core/text.h"
 #include "fabkit/core/yaml_reader.h"
 #include "fabkit/templates/diagnostic_codes.h"
 
@@ -361,7 +362,7 @@ std::optional<ModelFile> read_model_file(std::string_view yaml,
           in.error(codes::kUnknownName,
                    fmt::format("unknown control '{}'{} (controls: center_x, center_y, center_z, "
                                "size_x, size_y, size_z)",
-                               key,
+                               excerpt(key),
                                did_you_mean(key, all)),
                    in.at(kv.first));
           continue;
@@ -400,7 +401,7 @@ std::optional<ModelFile> read_model_file(std::string_view yaml,
         in.error(codes::kUnknownName,
                  fmt::format("unknown control '{}' (controls: center_x, center_y, center_z, "
                              "size_x, size_y, size_z)",
-                             c),
+                             excerpt(c)),
                  in.at(a["control"]));
       }
       adj.value = in.number(a["to"], "to", kCoordinate).value_or(0);

@@ -176,6 +176,22 @@ TEST(ModelFile, RemovingALegMakesTheTableTip) {
   EXPECT_EQ(line_of(bad.diagnostics, codes::kUnknownName), 6);
 }
 
+TEST(ModelFile, UnknownControlNamesAreEchoedShortAndReadable) {
+  // Found by fuzz/templates_model_fuzzer: a control name with control characters and invalid
+  // UTF-8 was echoed as it was.
+  Diagnostics d;
+  EXPECT_FALSE(read_model_file(std::string(kHeader) +
+                                   "model:\n"
+                                   "  - {use: bench, as: b, set: {si\xffze: 5}}\n"
+                                   "  - {use: bench, as: c, set: {" +
+                                   std::string(1000, 'w') + ": 5}}\n",
+                               "m.yaml",
+                               d));
+  EXPECT_TRUE(has_diagnostic(d, codes::kUnknownName, "unknown control 'si\uFFFDze'")) << d.format();
+  EXPECT_TRUE(has_diagnostic(d, codes::kUnknownName, "(940 more bytes)")) << d.format();
+  for (const Diagnostic& x : d) EXPECT_LT(x.message.size(), 400u) << x.message;
+}
+
 TEST(ModelFile, ComposingReportsUnknownTemplatesNodesAndParts) {
   const ComposedModel cm = compose_model(std::string(kHeader) +
                                              "model:\n"

@@ -135,7 +135,7 @@ async function freshPage(u = url) {
 }
 
 try {
-  const apiSolve = await (await fetch(`${url}api/solve`, { method: 'POST', body: readFileSync(example) })).json();
+  const apiSolve = await (await fetch(`${url}api/solve`, { method: 'POST', headers: { 'Content-Type': 'application/x-yaml' }, body: readFileSync(example) })).json();
   const expectedError = `${apiSolve.target.pos_error_mm.toFixed(1)} mm, ${apiSolve.target.rot_error_deg.toFixed(1)}°`;
   let page;
 
@@ -231,7 +231,7 @@ try {
     const [dl] = await Promise.all([page.waitForEvent('download'), page.getByTestId('save-yaml').click()]);
     const saved = readFileSync(await dl.path(), 'utf8');
     assert(saved === full, 'saved YAML differs from the design');
-    const check = await (await fetch(`${url}api/check`, { method: 'POST', body: saved })).json();
+    const check = await (await fetch(`${url}api/check`, { method: 'POST', headers: { 'Content-Type': 'application/x-yaml' }, body: saved })).json();
     assert(check.valid, 'saved YAML does not check: ' + JSON.stringify(check.diagnostics));
     const [glb] = await Promise.all([page.waitForEvent('download', { timeout: 120000 }), page.getByTestId('download-glb').click()]);
     const bin = readFileSync(await glb.path());

@@ -26,20 +26,24 @@ async function parse<T>(res: Response): Promise<T> {
 export type Query = Record<string, string | number>;
 const qs = (q?: Query) => (q && Object.keys(q).length ? '?' + new URLSearchParams(Object.entries(q).map(([k, v]) => [k, String(v)])) : '');
 
+const yamlType = { 'Content-Type': 'application/x-yaml' };
+
 /** Requests under `api/<kit>/`; paths are relative ("parts", "check"). */
 export class KitClient {
   constructor(readonly kit: string, private root = 'api') {}
   url(path: string, query?: Query): string { return `${this.root}/${this.kit}/${path}${qs(query)}`; }
   async get<T>(path: string, query?: Query, signal?: AbortSignal): Promise<T> { return parse<T>(await fetch(this.url(path, query), { signal })); }
-  /** POSTs a body (a design's YAML text, or an object sent as JSON) and reads JSON back. */
+  /** POSTs a body (a design's YAML text, or an object sent as JSON) and reads JSON back. The
+   * server reads bodies only with a YAML or JSON type: a plain-text POST is what any web page
+   * may send to 127.0.0.1 without asking (docs/security.md). */
   async post<T>(path: string, body: string | object, query?: Query, signal?: AbortSignal): Promise<T> {
-    const init: RequestInit = typeof body === 'string' ? { method: 'POST', body, signal }
+    const init: RequestInit = typeof body === 'string' ? { method: 'POST', body, headers: yamlType, signal }
       : { method: 'POST', body: JSON.stringify(body), headers: { 'Content-Type': 'application/json' }, signal };
     return parse<T>(await fetch(this.url(path, query), init));
   }
   /** POSTs and returns the raw answer (binary downloads such as .glb). */
   async postBlob(path: string, body: string, query?: Query, signal?: AbortSignal): Promise<Blob> {
-    const res = await fetch(this.url(path, query), { method: 'POST', body, signal });
+    const res = await fetch(this.url(path, query), { method: 'POST', body, headers: yamlType, signal });
     if (!res.ok) await parse(res);
     return res.blob();
   }

@@ -85,7 +85,8 @@ struct Diagnostic {
 /// An ordered list of diagnostics with small helpers.
 class Diagnostics {
  public:
-  void add(Diagnostic d) { items_.push_back(std::move(d)); }
+  /// Adds `d`; invalid UTF-8 in its message or file name becomes U+FFFD.
+  void add(Diagnostic d);
   void error(DiagnosticCode code, std::string message, SourceLocation where = {});
   void warning(DiagnosticCode code, std::string message, SourceLocation where = {});
   void note(DiagnosticCode code, std::string message, SourceLocation where = {});

@@ -28,6 +28,8 @@ struct CheckOptions {
   /// apart along world x (mm), so that it neither overlaps nor merges with them (the editor,
   /// while a design is being connected).
   double separate_groups_mm = 0;
+  /// Stop between stages once this has passed (a time-limit error names the last stage done).
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 struct StageTiming {

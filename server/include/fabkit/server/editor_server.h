@@ -19,14 +19,18 @@
 /// Each kit's routes live under /api/<kit>/ (/api/hacks/check, ...); the hacks kit's also at the
 /// paths above.
 ///
-/// Safe by default: loopback only unless another host is given, request bodies and designs are
-/// capped, every input is validated (HTTP 400 with the diagnostic), solves stop at a deadline,
-/// and no request can name a file: the only files served are the editor's own, under its root.
+/// Safe by default (docs/security.md): loopback only unless another host is given; answers only
+/// requests addressed to it by its own name (Host) and, for POSTs, with a YAML or JSON body
+/// type from its own page or no page (Origin); request bodies, designs, connections and the
+/// time each takes are capped; checks and solves run on a bounded queue of their own, so the
+/// parts library and meshes stay fast under load; no request can name a file: the only files
+/// read after start are the editor's own, under its root; no answer holds a path of the machine.
 
 #include <cstddef>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fabkit/core/diagnostics.h"
@@ -41,10 +45,19 @@ struct ServerOptions {
   /// Extra hacks part files, loaded at start (a posted design may not name files).
   std::vector<std::filesystem::path> hacks_part_files;
   std::string initial_design_name;       ///< its file name, for diagnostics
-  std::size_t max_body_bytes = 1 << 20;  ///< larger requests get 413
+  std::size_t max_body_bytes = 1 << 20;  ///< larger requests get 413 (chunked ones too)
   int max_parts = 500;                   ///< larger designs get 400
   int max_connections = 2000;            ///< designs with more connections get 400
-  double solve_timeout_s = 20;           ///< a solve that runs longer stops with 503
+  double solve_timeout_s = 20;           ///< a check or solve that runs longer stops with 503
+  /// Names besides the bound address the server answers to (Host header), e.g. "myhost.lan".
+  std::vector<std::string> allowed_hosts;
+  int max_open_connections = 96;  ///< connections served at once; more get 503 at once
+  double read_timeout_s = 10;     ///< a request must arrive whole within this (slow clients)
+  double write_timeout_s = 30;    ///< a client must take its answer within this
+  double keep_alive_s = 5;        ///< idle keep-alive connections close after this
+  int job_workers = 0;            ///< checks and solves run at once (0: one less than cores, ≥ 1)
+  int max_queued_jobs = 64;       ///< checks and solves queued or running; more get 503
+  double queue_timeout_s = 120;   ///< a check or solve that waited longer gets 503 unstarted
 };
 
 class EditorServer {
@@ -62,6 +75,10 @@ class EditorServer {
   void listen();
   void stop();
   const std::string& error() const { return error_; }
+  /// Answers one raw HTTP request as if it came over a connection from 127.0.0.1, without
+  /// sockets (for tests and fuzzing); returns the raw response bytes. The Host it must carry is
+  /// the configured host and port (or the bound port after bind()).
+  std::string answer_raw(std::string_view request);
   /// Problems with what the server was started with (part files); bind() refuses to start.
   const Diagnostics& startup_diagnostics() const;
 

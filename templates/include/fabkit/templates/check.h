@@ -4,6 +4,7 @@
 /// or float, stability at rest and under the file's loads, and whether every piece can be cut
 /// from stock. Returns named findings (Diagnostics); never prints.
 
+#include <chrono>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -26,6 +27,9 @@ struct CheckOptions {
   StabilityOptions stability;  ///< its friction and loads are taken from the model file
   BomOptions bom;
   double overlap_tolerance_mm = 0.5;  ///< principal parts may interpenetrate this much
+  /// Stop composing and checking once this has passed: a time-limit error says after how many
+  /// steps; cut plans get at most half the time left. None: no limit.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 /// What one model step did.
