@@ -114,7 +114,7 @@ async function download(page, testid) {
   return file;
 }
 async function postAssemble(file) {
-  const res = await fetch(`${url}api/flatpack/assemble`, { method: 'POST', body: readFileSync(file) });
+  const res = await fetch(`${url}api/flatpack/assemble`, { method: 'POST', headers: { 'Content-Type': 'application/x-yaml' }, body: readFileSync(file) });
   assert(res.ok, `assemble ${file}: ${res.status}`);
   return res.json();
 }

@@ -131,7 +131,7 @@ try {
     assert((await colorOf(p, 'j0')) === 0xf4f4f0, `joint colour ${(await colorOf(p, 'j0'))?.toString(16)}`);
     assert((await colorOf(p, 'r0')) === 0xa0703c, `rod colour ${(await colorOf(p, 'r0'))?.toString(16)}`);
     // every rod's length is the library's (check against the CLI's report of the same file)
-    const api = await (await fetch(`${url}api/rods/preview`, { method: 'POST', body: readFileSync(path.join(examples, 'coffee_table.yaml')) })).json();
+    const api = await (await fetch(`${url}api/rods/preview`, { method: 'POST', headers: { 'Content-Type': 'application/x-yaml' }, body: readFileSync(path.join(examples, 'coffee_table.yaml')) })).json();
     assert(api.rods.every((r, e) => Math.abs(r.length - pv.rods[e].length) < 1e-9), 'lengths differ from the API');
     // rod length on hover
     const s = await p.evaluate(() => window.__fabkit.pointOf('r0'));
@@ -413,7 +413,7 @@ try {
     console.log(`  52 rods, one edit (median of 21): round trip ${m('total_ms').toFixed(1)} ms = request ${m('fetch_ms').toFixed(1)} ms (server ${m('server_ms').toFixed(1)} ms, library ${m('library_ms').toFixed(1)} ms) + draw ${m('draw_ms').toFixed(1)} ms + waiting for the GPU ${m('gpu_ms').toFixed(1)} ms`);
     const direct = await p.evaluate(async (body) => {
       const out = [];
-      for (let k = 0; k < 21; ++k) { const t0 = performance.now(); const r = await fetch('api/rods/preview', { method: 'POST', body }); JSON.parse(await r.text()); out.push(performance.now() - t0); }
+      for (let k = 0; k < 21; ++k) { const t0 = performance.now(); const r = await fetch('api/rods/preview', { method: 'POST', headers: { 'Content-Type': 'application/x-yaml' }, body }); JSON.parse(await r.text()); out.push(performance.now() - t0); }
       return out;
     }, await design(p));
     console.log(`  the same request alone (fetch + JSON.parse, no drawing; median of 21): ${median(direct).toFixed(1)} ms`);
@@ -431,7 +431,7 @@ try {
     const text = readFileSync(await y.path(), 'utf8');
     assert(text.startsWith('fabkit: rods/1\nname: My stool\n'), text.slice(0, 60));
     // the saved file is the same design for the library
-    const api = await (await fetch(`${url}api/rods/preview`, { method: 'POST', body: text })).json();
+    const api = await (await fetch(`${url}api/rods/preview`, { method: 'POST', headers: { 'Content-Type': 'application/x-yaml' }, body: text })).json();
     assert(api.rods.length === before.rods.length && api.rods.every((r, e) => Math.abs(r.length - before.rods[e].length) < 1e-6), 'saved design differs');
     const p2 = await rodsPage();
     await p2.getByTestId('open-file').setInputFiles(await y.path()); await idle(p2);
