@@ -423,6 +423,21 @@ void fabkit::python::bind_hacks(py::module_ m) {
                                for (const Slip& x : s.result.slips) out.push_back(x.message);
                                return out;
                              })
+      .def_property_readonly(
+          "contacts",
+          [](const Solved& s) {
+            py::list out;
+            for (const PartContact& c : s.result.contacts) {
+              out.append(py::make_tuple(c.part_a, c.part_b, c.distance_mm));
+            }
+            return out;
+          },
+          "Pairs of parts that touch or overlap in the solved pose, deepest overlap first: "
+          "(part, part, distance in mm; negative: they pass through each other by that much)")
+      .def_property_readonly(
+          "max_penetration_mm",
+          [](const Solved& s) { return s.result.max_penetration_mm; },
+          "Deepest overlap of two parts' bodies (mm); above 0.5 the pose is never stable")
       .def_property_readonly("timings_ms",
                              [](const Solved& s) {
                                py::dict d;

@@ -118,3 +118,26 @@ def test_falls_apart_reports_the_slipping_connection():
     r = assembly.solve()
     assert r.stable is False
     assert r.slipping and "slides off the open end of Environment.rod" in r.slipping[0]
+
+
+def test_contacts_are_reported_and_an_overlapping_pose_is_not_stable():
+    # The diaper caddy's paper target is inside the car seat's back (docs/gallery.md): Python
+    # reports the same overlap as result.json, deepest first, and never calls it stable.
+    import fabkit.hacks as hacks
+
+    here = __import__("pathlib").Path(__file__).parents[2]
+    r = hacks.load_design(here / "examples/hacks/diaper_caddy.yaml").assembly.solve()
+    assert r.stable is False
+    assert r.max_penetration_mm > 0.5
+    a, b, d = r.contacts[0]
+    assert {a, b} == {"backseat", "caddy"}
+    assert d == pytest.approx(-r.max_penetration_mm)
+    assert "pass through each other" in r.message
+    expected = json.loads(r.to_json())
+    assert expected["checks"]["max_penetration_mm"] == pytest.approx(r.max_penetration_mm, abs=1e-3)
+    assert [tuple(c["parts"]) for c in expected["contacts"]] == [(x, y) for x, y, _ in r.contacts]
+    # A stable design passes through nothing.
+    assembly, _ = basket_assembly()
+    ok = assembly.solve()
+    assert ok.stable is True
+    assert ok.max_penetration_mm <= 0.5
