@@ -773,12 +773,26 @@ try {
     await p.unroute('**/api/hacks/solve');
     // a 1024 px window leaves the 3D view room, and the columns can be resized
     await p.setViewportSize({ width: 1024, height: 768 });
-    let w = (await p.getByTestId('scene-canvas').boundingBox()).width;
+    // The canvas follows the window on the next resize callback: wait until its width settles
+    // (on a loaded machine the first reading was still the wide window's).
+    const canvasWidth = async () => (await p.getByTestId('scene-canvas').boundingBox()).width;
+    let w = await canvasWidth();
+    for (let k = 0; k < 50; ++k) {
+      await p.waitForTimeout(100);
+      const again = await canvasWidth();
+      if (again === w) break;
+      w = again;
+    }
     assert(w >= 460, `3D view ${w} px wide at 1024 px`);
     const sp = await p.getByTestId('splitter-right').boundingBox();
     await p.mouse.move(sp.x + 2, sp.y + 200); await p.mouse.down(); await p.mouse.move(sp.x + 82, sp.y + 200, { steps: 4 }); await p.mouse.up();
-    await p.waitForTimeout(100);
-    const w2 = (await p.getByTestId('scene-canvas').boundingBox()).width;
+    let w2 = await canvasWidth();
+    for (let k = 0; k < 50; ++k) {
+      await p.waitForTimeout(100);
+      const again = await canvasWidth();
+      if (again === w2) break;
+      w2 = again;
+    }
     assert(Math.abs(w2 - w - 80) < 6, `dragging the splitter by 80 px: ${w} → ${w2}`);
     await p.close();
   });
