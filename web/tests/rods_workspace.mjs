@@ -3,13 +3,14 @@
 // chromium with playwright-core and exits non-zero when a test fails (ctest: web.rods).
 // FABKIT_UPDATE_GOLDEN=1 rewrites tests/golden/rods_coffee_table.png; FABKIT_DOCS_SHOTS=1 writes
 // the screenshots of docs/rods-editor.md into docs/rods-editor/.
-import { spawn, execFileSync } from 'node:child_process';
+import { execFileSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, writeFileSync, existsSync, rmSync, mkdirSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
+import { startServer, assert, median, makeTests, idle, click, setField } from './harness.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const repo = path.resolve(here, '../..');
@@ -18,43 +19,7 @@ const examples = path.join(repo, 'examples/rods');
 const golden = path.join(here, 'golden/rods_coffee_table.png');
 const only = process.argv.slice(2);
 
-function startServer(args = []) {
-  return new Promise((resolve, reject) => {
-    const proc = spawn(fabkit, ['serve', '--port', '0', ...args], { stdio: ['ignore', 'pipe', 'pipe'] });
-    let out = '';
-    const timer = setTimeout(() => reject(new Error(`server did not start: ${out}`)), 15000);
-    proc.stdout.on('data', (b) => {
-      out += b;
-      const m = out.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
-      if (m) { clearTimeout(timer); resolve({ proc, url: `http://127.0.0.1:${m[1]}/` }); }
-    });
-    proc.stderr.on('data', (b) => { out += b; });
-    proc.on('exit', (code) => reject(new Error(`server exited (${code}): ${out}`)));
-  });
-}
-
-function assert(cond, msg) { if (!cond) throw new Error(msg); }
-const median = (xs) => { const s = [...xs].sort((a, b) => a - b); return s.length % 2 ? s[(s.length - 1) / 2] : (s[s.length / 2 - 1] + s[s.length / 2]) / 2; };
-
-const results = [];
-async function test(name, fn) {
-  if (only.length && !only.some((o) => name.startsWith(o))) return;
-  const t0 = Date.now();
-  try { await fn(); results.push([name, 'ok']); console.log(`ok   ${name} (${Date.now() - t0} ms)`); }
-  catch (e) { results.push([name, 'FAIL']); console.log(`FAIL ${name}: ${e.stack || e}`); }
-}
-
-// ------------------------------------------------------------------ page helpers
-async function idle(page) {
-  await page.waitForFunction(() => window.__fabkit && window.__fabkit.ready && window.__fabkit.idle(), null, { timeout: 120000 });
-}
-async function click(page, testid) { await page.getByTestId(testid).click(); await idle(page); }
-async function setField(page, testid, value) {
-  const f = page.getByTestId(testid);
-  await f.fill(String(value));
-  await f.dispatchEvent('change');
-  await idle(page);
-}
+const { test, finish } = makeTests(only);
 const preview = (page) => page.evaluate(() => window.__fabkit.preview());
 const design = (page) => page.evaluate(() => window.__fabkit.designYaml());
 const counts = async (page) => {
@@ -561,6 +526,4 @@ try {
   rmSync(userDir, { recursive: true, force: true });
   rmSync(work, { recursive: true, force: true });
 }
-const failed = results.filter((r) => r[1] !== 'ok');
-console.log(`${results.length - failed.length} passed, ${failed.length} failed`);
-process.exit(failed.length ? 1 : 0);
+finish();

@@ -2,13 +2,14 @@
 // Starts `fabkit serve --port 0` (which serves web/dist; run `npm run build` first), drives Debian's
 // chromium with playwright-core and exits non-zero when a test fails.
 // FABKIT_UPDATE_GOLDEN=1 rewrites tests/golden/basket.png.
-import { spawn, execFileSync } from 'node:child_process';
+import { execFileSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, readdirSync, writeFileSync, existsSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
+import { startServer, assert, makeTests, idle, click, setField } from './harness.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const repo = path.resolve(here, '../..');
@@ -17,42 +18,7 @@ const example = path.join(repo, 'examples/hacks/basket_between_rods.yaml');
 const golden = path.join(here, 'golden/basket.png');
 const only = process.argv.slice(2);
 
-function startServer(args = []) {
-  return new Promise((resolve, reject) => {
-    const proc = spawn(fabkit, ['serve', '--port', '0', ...args], { stdio: ['ignore', 'pipe', 'pipe'] });
-    let out = '';
-    const timer = setTimeout(() => reject(new Error(`server did not start: ${out}`)), 15000);
-    proc.stdout.on('data', (b) => {
-      out += b;
-      const m = out.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
-      if (m) { clearTimeout(timer); resolve({ proc, url: `http://127.0.0.1:${m[1]}/` }); }
-    });
-    proc.stderr.on('data', (b) => { out += b; });
-    proc.on('exit', (code) => reject(new Error(`server exited (${code}): ${out}`)));
-  });
-}
-
-function assert(cond, msg) { if (!cond) throw new Error(msg); }
-
-const results = [];
-async function test(name, fn) {
-  if (only.length && !only.some((o) => name.startsWith(o))) return;
-  const t0 = Date.now();
-  try { await fn(); results.push([name, 'ok', Date.now() - t0]); console.log(`ok   ${name} (${Date.now() - t0} ms)`); }
-  catch (e) { results.push([name, 'FAIL', Date.now() - t0]); console.log(`FAIL ${name}: ${e.stack || e}`); }
-}
-
-// ------------------------------------------------------------------ page helpers
-async function idle(page) {
-  await page.waitForFunction(() => window.__fabkit && window.__fabkit.ready && window.__fabkit.idle(), null, { timeout: 60000 });
-}
-async function click(page, testid) { await page.getByTestId(testid).click(); await idle(page); }
-async function setField(page, testid, value) {
-  const f = page.getByTestId(testid);
-  await f.fill(String(value));
-  await f.dispatchEvent('change');
-  await idle(page);
-}
+const { test, finish } = makeTests(only);
 async function selectLibPart(page, search, part) {
   await page.getByTestId('part-search').fill(search);
   await click(page, `lib-part-${part}`);
@@ -807,6 +773,4 @@ try {
   server.kill(); server2.kill();
   rmSync(userDir, { recursive: true, force: true });
 }
-const failedTests = results.filter((r) => r[1] !== 'ok');
-console.log(`${results.length - failedTests.length} passed, ${failedTests.length} failed`);
-process.exit(failedTests.length ? 1 : 0);
+finish();

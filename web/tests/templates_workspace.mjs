@@ -4,13 +4,13 @@
 // chromium with playwright-core and exits non-zero when a test fails. Prints the drag step's
 // round trip (median over the steps of a sphere drag) for docs/benchmarks.md.
 // FABKIT_UPDATE_GOLDEN=1 rewrites tests/golden/templates_table_shelf.png.
-import { spawn } from 'node:child_process';
 import { mkdtempSync, readFileSync, writeFileSync, existsSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
+import { startServer, assert, median, makeTests, idle, click, setField } from './harness.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const repo = path.resolve(here, '../..');
@@ -20,41 +20,7 @@ const golden = path.join(here, 'golden/templates_table_shelf.png');
 const only = process.argv.slice(2);
 const docsShots = process.env.FABKIT_DOCS_SHOTS === '1';
 
-function startServer(args = []) {
-  return new Promise((resolve, reject) => {
-    const proc = spawn(fabkit, ['serve', '--port', '0', ...args], { stdio: ['ignore', 'pipe', 'pipe'] });
-    let out = '';
-    const timer = setTimeout(() => reject(new Error(`server did not start: ${out}`)), 15000);
-    proc.stdout.on('data', (b) => {
-      out += b;
-      const m = out.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
-      if (m) { clearTimeout(timer); resolve({ proc, url: `http://127.0.0.1:${m[1]}/` }); }
-    });
-    proc.stderr.on('data', (b) => { out += b; });
-    proc.on('exit', (code) => reject(new Error(`server exited (${code}): ${out}`)));
-  });
-}
-
-function assert(cond, msg) { if (!cond) throw new Error(msg); }
-
-const results = [];
-async function test(name, fn) {
-  if (only.length && !only.some((o) => name.startsWith(o))) return;
-  const t0 = Date.now();
-  try { await fn(); results.push([name, 'ok']); console.log(`ok   ${name} (${Date.now() - t0} ms)`); }
-  catch (e) { results.push([name, 'FAIL']); console.log(`FAIL ${name}: ${e.stack || e}`); }
-}
-
-async function idle(page) {
-  await page.waitForFunction(() => window.__fabkit && window.__fabkit.ready && window.__fabkit.idle(), null, { timeout: 60000 });
-}
-async function click(page, testid) { await page.getByTestId(testid).click(); await idle(page); }
-async function setField(page, testid, value) {
-  const f = page.getByTestId(testid);
-  await f.fill(String(value));
-  await f.dispatchEvent('change');
-  await idle(page);
-}
+const { test, finish } = makeTests(only);
 const hook = (page, name, ...args) => page.evaluate(([n, a]) => window.__fabkit[n](...a), [name, args]);
 async function shot(page, name) {
   if (!docsShots) return;
@@ -113,7 +79,6 @@ async function freshPage() {
   return page;
 }
 const dragMedians = {};
-const median = (xs) => { const s = [...xs].sort((a, b) => a - b); return s[Math.floor(s.length / 2)]; };
 function reportDrag(key, what, t) {
   const m = {}; for (const k of ['roundTrip', 'request', 'draw', 'server', 'qp']) m[k] = median(t.map((x) => x[k]));
   dragMedians[key] = { steps: t.length, ...m };
@@ -392,6 +357,4 @@ try {
   server.kill();
   rmSync(userDir, { recursive: true, force: true });
 }
-const failed = results.filter((r) => r[1] !== 'ok');
-console.log(`${results.length - failed.length} passed, ${failed.length} failed`);
-process.exit(failed.length ? 1 : 0);
+finish();
