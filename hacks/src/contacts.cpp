@@ -58,7 +58,8 @@ bool ContactModel::excluded(int part_a, int piece_a, int part_b, int piece_b) co
 
 std::vector<PiecePair> ContactModel::watched_pairs(const std::vector<Mat4>& frames,
                                                    const std::vector<bool>& moving,
-                                                   double cutoff) const {
+                                                   double cutoff,
+                                                   std::vector<double>* distances) const {
   std::vector<PiecePair> out;
   const int n = part_count();
   for (int a = 0; a < n; ++a) {
@@ -75,7 +76,11 @@ std::vector<PiecePair> ContactModel::watched_pairs(const std::vector<Mat4>& fram
           // Bounds are loose (a box around a slanted wire): the true distance decides, so
           // that only pairs that can meet become rows of the solve.
           if (gap_bound(p, frames) > cutoff) continue;
-          if (cutoff > 0 && distance(p, frames).distance > cutoff) continue;
+          if (cutoff > 0 || distances) {
+            const double d = distance(p, frames).distance;
+            if (cutoff > 0 && d > cutoff) continue;
+            if (distances) distances->push_back(d);
+          }
           out.push_back(p);
         }
       }
@@ -87,8 +92,11 @@ std::vector<PiecePair> ContactModel::watched_pairs(const std::vector<Mat4>& fram
 std::vector<ContactModel::PartPairDistance> ContactModel::closest_parts(
     const std::vector<Mat4>& frames, const std::vector<bool>& moving, double cutoff) const {
   std::vector<PartPairDistance> out;
-  for (const PiecePair& w : watched_pairs(frames, moving, cutoff)) {
-    const double d = distance(w, frames).distance;
+  std::vector<double> distances;
+  const std::vector<PiecePair> near = watched_pairs(frames, moving, cutoff, &distances);
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    const PiecePair& w = near[k];
+    const double d = distances[k];
     if (d > cutoff) continue;
     auto same = [&](const PartPairDistance& x) {
       return x.part_a == w.part_a && x.part_b == w.part_b;

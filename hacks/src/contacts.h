@@ -34,9 +34,11 @@ class ContactModel {
   /// sides: a hook and the rod it hangs on touch by design, and so may what they are joined to
   /// right there (the basket wall under the rim a hook wraps, the bar of a link at its hook);
   /// the connection itself keeps them where they are.
+  /// With `distances`, each returned pair's signed distance is appended to it (computed once).
   std::vector<PiecePair> watched_pairs(const std::vector<Mat4>& frames,
                                        const std::vector<bool>& moving,
-                                       double cutoff) const;
+                                       double cutoff,
+                                       std::vector<double>* distances = nullptr) const;
 
   /// For each pair of parts (at least one in `moving`) whose bodies come within `cutoff` mm at
   /// `frames`, apart from the pieces a connection joins: the smallest signed distance.

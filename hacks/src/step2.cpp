@@ -27,29 +27,35 @@ std::string slip_message(const Assembly& a, int index, bool at_upper) {
       "{} slides off the open end of {} ({} = {:g})", guest, owner, p.spec.name, bound);
 }
 
-void watch_contacts(Problem& p, const std::vector<double>& x) {
-  p.watched.clear();
-  if (!p.contacts) return;
+namespace {
+
+// Per part: whether p moves it (not an environment, and in p's group).
+std::vector<bool> moving_parts(const Problem& p) {
   const Assembly& a = *p.assembly;
   std::vector<bool> moving(a.nodes().size(), false);
   for (std::size_t i = 0; i < moving.size(); ++i) {
     moving[i] = !a.nodes()[i].environment && (p.group < 0 || p.part_group[i] == p.group);
   }
-  p.watched = p.contacts->watched_pairs(a.part_frames(x), moving, kContactWatchMm);
+  return moving;
+}
+
+}  // namespace
+
+void watch_contacts(Problem& p, const std::vector<double>& x) {
+  p.watched.clear();
+  if (!p.contacts) return;
+  p.watched =
+      p.contacts->watched_pairs(p.assembly->part_frames(x), moving_parts(p), kContactWatchMm);
 }
 
 Overlap deepest_overlap(const Problem& p, const std::vector<double>& x) {
   Overlap out;
   if (!p.contacts) return out;
-  const Assembly& a = *p.assembly;
-  std::vector<bool> moving(a.nodes().size(), false);
-  for (std::size_t i = 0; i < moving.size(); ++i) {
-    moving[i] = !a.nodes()[i].environment && (p.group < 0 || p.part_group[i] == p.group);
-  }
-  const std::vector<Mat4> frames = a.part_frames(x);
-  for (const PiecePair& w : p.contacts->watched_pairs(frames, moving, 0.0)) {
-    const double depth = -p.contacts->distance(w, frames).distance;
-    if (depth > out.depth) out = {depth, w};
+  std::vector<double> distances;
+  const std::vector<PiecePair> near =
+      p.contacts->watched_pairs(p.assembly->part_frames(x), moving_parts(p), 0.0, &distances);
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    if (-distances[k] > out.depth) out = {-distances[k], near[k]};
   }
   return out;
 }
