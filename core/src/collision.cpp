@@ -78,24 +78,23 @@ fcl::Transform3d to_fcl(const Mat4& m) {
   return t;
 }
 
-// World-aligned bounds of a box given in a body's coordinates, moved by `t`.
-void world_bounds(const Vec3& lo, const Vec3& hi, const Mat4& t, Vec3& out_lo, Vec3& out_hi) {
+}  // namespace
+
+Box world_box(const Vec3& lo, const Vec3& hi, const Mat4& t) {
   const Mat3 r = t.topLeftCorner<3, 3>();
   const Vec3 c = r * (0.5 * (lo + hi)) + t.topRightCorner<3, 1>();
   const Vec3 half = r.cwiseAbs() * (0.5 * (hi - lo));
-  out_lo = c - half;
-  out_hi = c + half;
+  return {c - half, c + half};
 }
 
-}  // namespace
+double box_gap(const Box& a, const Box& b) {
+  return (b.lo - a.hi).cwiseMax(a.lo - b.hi).cwiseMax(Vec3::Zero()).norm();
+}
 
 double piece_gap_bound(
     const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb) {
-  Vec3 alo, ahi, blo, bhi;
-  world_bounds(a.piece_min(pa), a.piece_max(pa), ta, alo, ahi);
-  world_bounds(b.piece_min(pb), b.piece_max(pb), tb, blo, bhi);
-  const Vec3 gap = (blo - ahi).cwiseMax(alo - bhi).cwiseMax(Vec3::Zero());
-  return gap.norm();
+  return box_gap(world_box(a.piece_min(pa), a.piece_max(pa), ta),
+                 world_box(b.piece_min(pb), b.piece_max(pb), tb));
 }
 
 namespace {
@@ -175,8 +174,34 @@ Proximity piece_distance(
   ccd.mpr_tolerance = 1e-7;
   ccd_real_t depth = 0;
   ccd_vec3_t dir, pos;
+  // Touching or barely overlapping, the contact normal is what a solver needs and the
+  // algorithms do not give it: GJK's nearest points coincide and MPR's portal direction is
+  // arbitrary near depth 0. Moving b a little away from a (along the line between their
+  // centres, which points to b's side of any plane separating them) and asking GJK gives the
+  // real normal: for a face against a vertex, that face's.
+  auto from_separated = [&](double depth_now) {
+    const Vec3 c = pb_world.centre - pa_world.centre;
+    const Vec3 away = c.norm() > 1e-12 ? Vec3(c.normalized()) : Vec3::UnitZ();
+    for (const double step : {0.05, 1.0}) {
+      const Vec3 shift = step * away;
+      Mat4 moved = tb;
+      moved.topRightCorner<3, 1>() += shift;
+      fcl::DistanceResultd apart;
+      fcl::distance(
+          A.shapes[ia].get(), to_fcl(ta), B.shapes[ib].get(), to_fcl(moved), request, apart);
+      if (apart.min_distance > 1e-9) {
+        p.distance = -depth_now;
+        p.point_a = apart.nearest_points[0];
+        p.point_b = Vec3(apart.nearest_points[1]) - shift;
+        p.normal = (Vec3(apart.nearest_points[1]) - p.point_a).normalized();
+        return true;
+      }
+    }
+    return false;
+  };
   if (ccdMPRPenetration(&pa_world, &pb_world, &ccd, &depth, &dir, &pos) != 0) {
     // MPR sees no overlap: they touch.
+    if (from_separated(0.0)) return p;
     p.distance = 0;
     p.point_a = result.nearest_points[0];
     p.point_b = result.nearest_points[1];
@@ -184,25 +209,7 @@ Proximity piece_distance(
     p.normal = c.norm() > 1e-12 ? Vec3(c.normalized()) : Vec3::UnitZ();
     return p;
   }
-  if (depth < 1e-4) {
-    // Barely touching: MPR's direction is arbitrary there (any portal will do at depth 0).
-    // Separating b a hair along the line between the centres and asking GJK gives the real
-    // contact normal.
-    const Vec3 c = pb_world.centre - pa_world.centre;
-    const Vec3 shift = 2e-3 * (c.norm() > 1e-12 ? Vec3(c.normalized()) : Vec3::UnitZ());
-    Mat4 moved = tb;
-    moved.topRightCorner<3, 1>() += shift;
-    fcl::DistanceResultd apart;
-    fcl::distance(
-        A.shapes[ia].get(), to_fcl(ta), B.shapes[ib].get(), to_fcl(moved), request, apart);
-    if (apart.min_distance > 1e-12) {
-      p.distance = -depth;
-      p.point_a = apart.nearest_points[0];
-      p.point_b = Vec3(apart.nearest_points[1]) - shift;
-      p.normal = (Vec3(apart.nearest_points[1]) - p.point_a).normalized();
-      return p;
-    }
-  }
+  if (depth < 1e-4 && from_separated(depth)) return p;
   p.distance = -depth;
   p.normal = Vec3(dir.v[0], dir.v[1], dir.v[2]);
   if (p.normal.norm() < 1e-12) p.normal = Vec3::UnitZ();

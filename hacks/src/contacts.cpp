@@ -62,20 +62,37 @@ std::vector<PiecePair> ContactModel::watched_pairs(const std::vector<Mat4>& fram
                                                    std::vector<double>* distances) const {
   std::vector<PiecePair> out;
   const int n = part_count();
+  // World boxes of every body and piece, once: the pair loops below only compare them.
+  std::vector<collision::Box> whole(static_cast<std::size_t>(n));
+  std::vector<std::vector<collision::Box>> pieces(static_cast<std::size_t>(n));
+  for (int a = 0; a < n; ++a) {
+    if (!has_body(a)) continue;
+    const collision::Body& A = body(a);
+    const Mat4& f = frames[static_cast<std::size_t>(a)];
+    whole[static_cast<std::size_t>(a)] = collision::world_box(A.bounds_min(), A.bounds_max(), f);
+    for (int i = 0; i < A.piece_count(); ++i) {
+      pieces[static_cast<std::size_t>(a)].push_back(
+          collision::world_box(A.piece_min(i), A.piece_max(i), f));
+    }
+  }
   for (int a = 0; a < n; ++a) {
     if (!has_body(a)) continue;
     for (int b = a + 1; b < n; ++b) {
       if (!has_body(b)) continue;
       if (!moving[static_cast<std::size_t>(a)] && !moving[static_cast<std::size_t>(b)]) continue;
-      const collision::Body& A = body(a);
-      const collision::Body& B = body(b);
-      for (int i = 0; i < A.piece_count(); ++i) {
-        for (int j = 0; j < B.piece_count(); ++j) {
-          if (excluded(a, i, b, j)) continue;
-          const PiecePair p{a, i, b, j};
+      if (collision::box_gap(whole[static_cast<std::size_t>(a)],
+                             whole[static_cast<std::size_t>(b)]) > cutoff) {
+        continue;
+      }
+      const std::vector<collision::Box>& pa = pieces[static_cast<std::size_t>(a)];
+      const std::vector<collision::Box>& pb = pieces[static_cast<std::size_t>(b)];
+      for (std::size_t i = 0; i < pa.size(); ++i) {
+        for (std::size_t j = 0; j < pb.size(); ++j) {
           // Bounds are loose (a box around a slanted wire): the true distance decides, so
           // that only pairs that can meet become rows of the solve.
-          if (gap_bound(p, frames) > cutoff) continue;
+          if (collision::box_gap(pa[i], pb[j]) > cutoff) continue;
+          const PiecePair p{a, static_cast<int>(i), b, static_cast<int>(j)};
+          if (excluded(a, p.piece_a, b, p.piece_b)) continue;
           if (cutoff > 0 || distances) {
             const double d = distance(p, frames).distance;
             if (cutoff > 0 && d > cutoff) continue;

@@ -18,6 +18,7 @@ struct PiecePair {
   int piece_a = 0;
   int part_b = 0;
   int piece_b = 0;
+  bool operator==(const PiecePair& o) const = default;
 };
 
 /// The collision bodies of an assembly's parts (built once per solve).
@@ -73,8 +74,6 @@ class ContactModel {
 inline constexpr double kContactWatchMm = 25.0;
 /// Deeper than this (mm) counts as passing through: the verdict reports it.
 inline constexpr double kPenetrationToleranceMm = 0.5;
-/// Overlaps shallower than this (mm) are left to the relaxation, which removes them.
-inline constexpr double kContactSlackMm = 0.05;
 /// Iterations of a relaxation with contact rows, and how many times it is repeated with the
 /// pairs it came near (deterministic bounds on the cost of contacts).
 inline constexpr int kContactIterations = 150;

@@ -68,4 +68,15 @@ Proximity piece_distance(
 double piece_gap_bound(
     const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
 
+/// A world-aligned box.
+struct Box {
+  Vec3 lo = Vec3::Zero();
+  Vec3 hi = Vec3::Zero();
+};
+/// The world-aligned box around the box [lo, hi] of a body's coordinates moved by `t`.
+Box world_box(const Vec3& lo, const Vec3& hi, const Mat4& t);
+/// The distance between two boxes (0 when they overlap): a lower bound of the distance between
+/// anything inside them. For many pairs, compute each box once and compare them with this.
+double box_gap(const Box& a, const Box& b);
+
 }  // namespace fabkit::collision
