@@ -7,27 +7,33 @@
 
 namespace fabkit::hacks::detail {
 
-void local_connector_twist(const Primitive& prim, const double* q, int j, Vec3& w, Vec3& v) {
-  using Jet1 = ceres::Jet<double, 1>;
+void local_connector_twists(const Primitive& prim, const double* q, Vec3* w, Vec3* v) {
+  using Jet3 = ceres::Jet<double, 3>;
   const int dof = connector_dof(prim.connector_kind());
-  Jet1 qj[3];
-  for (int i = 0; i < dof; ++i) qj[i] = Jet1(q[i]);
-  qj[j].v[0] = 1.0;
-  Rigid<Jet1> l;
-  apply_connector<Jet1>(prim.connector_kind(), prim.shape, qj, l);
-  Mat3 r, dr;
-  Vec3 t, dt;
+  Jet3 qj[3];
+  for (int i = 0; i < dof; ++i) {
+    qj[i] = Jet3(q[i]);
+    qj[i].v[i] = 1.0;
+  }
+  Rigid<Jet3> l;
+  apply_connector<Jet3>(prim.connector_kind(), prim.shape, qj, l);
+  Mat3 r;
+  Vec3 t;
   for (int a = 0; a < 3; ++a) {
     t[a] = l.t[a].a;
-    dt[a] = l.t[a].v[0];
-    for (int b = 0; b < 3; ++b) {
-      r(a, b) = l.R(a, b).a;
-      dr(a, b) = l.R(a, b).v[0];
-    }
+    for (int b = 0; b < 3; ++b) r(a, b) = l.R(a, b).a;
   }
-  const Mat3 omega = dr * r.transpose();
-  w = Vec3(omega(2, 1), omega(0, 2), omega(1, 0));
-  v = dt - w.cross(t);
+  for (int j = 0; j < dof; ++j) {
+    Mat3 dr;
+    Vec3 dt;
+    for (int a = 0; a < 3; ++a) {
+      dt[a] = l.t[a].v[j];
+      for (int b = 0; b < 3; ++b) dr(a, b) = l.R(a, b).v[j];
+    }
+    const Mat3 omega = dr * r.transpose();
+    w[j] = Vec3(omega(2, 1), omega(0, 2), omega(1, 0));
+    v[j] = dt - w[j].cross(t);
+  }
 }
 
 bool Problem::covers(const Assembly& a, ConnectionId c) const {

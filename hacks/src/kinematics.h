@@ -4,6 +4,7 @@
 // their exact Jacobian from the kinematic tree's twists.
 
 #include <algorithm>
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -17,9 +18,10 @@
 
 namespace fabkit::hacks::detail {
 
-/// The twist (angular w, linear v) dL/dq_j · L⁻¹ of the local connector transform L(q) of
-/// `prim`, in primitive coordinates (kinematics.cpp; forward-mode derivatives).
-void local_connector_twist(const Primitive& prim, const double* q, int j, Vec3& w, Vec3& v);
+/// The twists (angular w[j], linear v[j]) dL/dq_j · L⁻¹ of the local connector transform L(q)
+/// of `prim`, in primitive coordinates, for every j < connector_dof(prim.connector_kind()),
+/// in one forward-mode pass (kinematics.cpp).
+void local_connector_twists(const Primitive& prim, const double* q, Vec3* w, Vec3* v);
 
 /// Everything about an assembly that the solve steps share.
 struct Problem {
@@ -109,8 +111,14 @@ struct ManifoldCost {
   template <class T>
   bool operator()(T const* const* params, T* out) const {
     const std::vector<T> x = expand<T>(*vars, base, params[0]);
+    fill<T>(x, problem->assembly->all_part_frames<T>(x.data()), out);
+    return true;
+  }
+
+  /// The rows at parameters x whose part frames are `frames` (contact rows excluded).
+  template <class T>
+  void fill(const std::vector<T>& x, const std::vector<Rigid<T>>& frames, T* out) const {
     const Assembly& a = *problem->assembly;
-    const std::vector<Rigid<T>> frames = a.all_part_frames<T>(x.data());
     if (objective == Objective::kTarget) {
       target_residuals<T>(
           *problem->target, frames[static_cast<std::size_t>(problem->target->part.value)], out);
@@ -152,7 +160,6 @@ struct ManifoldCost {
     for (const MultiConnectionPair& m : problem->multi) {
       *eq++ = -multi_connection_value<T>(m, x.data());
     }
-    return true;
   }
 };
 
@@ -184,6 +191,15 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
         id = a.connection(a.parent(id)).first.part;
       }
     }
+    // The share of the total mass below each tree connection.
+    mass_below_.assign(a.connections().size(), 0.0);
+    for (std::size_t c = 0; c < below_.size(); ++c) {
+      for (int q : below_[c]) mass_below_[c] += p.masses[static_cast<std::size_t>(q)];
+      if (p.total_mass > 0) mass_below_[c] /= p.total_mass;
+    }
+    twists_ready_.assign(2 * a.connections().size(), 0);
+    twist_w_.assign(2 * a.connections().size(), {});
+    twist_v_.assign(2 * a.connections().size(), {});
     // Which connector side and slot each variable belongs to.
     for (int k = 0; k < n_; ++k) {
       const int index = v.index[static_cast<std::size_t>(k)];
@@ -232,9 +248,30 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     const std::vector<double> x = expand<double>(vars_, base_, z);
     values_.assign(static_cast<std::size_t>(rows_), 0.0);
     jacobian_.assign(static_cast<std::size_t>(rows_ * n_), 0.0);
-    const double* blocks[] = {z};
-    cost_(blocks, values_.data());
     const std::vector<Rigid<double>> frames = a.all_part_frames<double>(x.data());
+    cost_.fill<double>(x, frames, values_.data());
+    // What hangs below each tree connection, for the potential's slope: its mass-weighted
+    // centre of mass, summed child to parent (parents precede children in the part order).
+    std::vector<Vec3> weighted_below;
+    if (objective_ != Objective::kTarget) {
+      std::vector<Vec3> subtree(frames.size(), Vec3::Zero());
+      for (std::size_t q = frames.size(); q-- > 0;) {
+        const double m = problem_.masses[q];
+        if (m != 0) {
+          subtree[q] += m / problem_.total_mass * (frames[q].R * problem_.coms[q] + frames[q].t);
+        }
+        const ConnectionId up = a.parent(PartId{static_cast<int>(q)});
+        if (up.valid()) subtree[a.connection(up).first.part.index()] += subtree[q];
+      }
+      weighted_below.assign(a.connections().size(), Vec3::Zero());
+      for (std::size_t q = 0; q < frames.size(); ++q) {
+        const ConnectionId up = a.parent(PartId{static_cast<int>(q)});
+        if (up.valid()) weighted_below[up.index()] = subtree[q];
+      }
+    }
+    // Local twists of each connector side, computed once per side (all its parameters in one
+    // pass) when its first variable needs them.
+    std::fill(twists_ready_.begin(), twists_ready_.end(), 0);
 
     // Closure frames, once.
     struct ClosureFrames {
@@ -290,7 +327,15 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
       const Connector& side = slot.first ? c.first : c.second;
       const Primitive& prim = a.node(side.part).part->primitive(side.primitive);
       // Local derivative of the connector transform L(q) (primitive coordinates).
-      const Twist local = connector_twist(prim, x.data() + side.offset, slot.local);
+      const std::size_t side_id =
+          2 * static_cast<std::size_t>(slot.connection) + (slot.first ? 0 : 1);
+      if (!twists_ready_[side_id]) {
+        local_connector_twists(
+            prim, x.data() + side.offset, twist_w_[side_id].data(), twist_v_[side_id].data());
+        twists_ready_[side_id] = 1;
+      }
+      const Twist local{twist_w_[side_id][static_cast<std::size_t>(slot.local)],
+                        twist_v_[side_id][static_cast<std::size_t>(slot.local)]};
       const Rigid<double>& owner = frames[side.part.index()];
       // World twist of the moving frame: the connector frame on this side.
       const Twist spatial = adjoint(owner.then(side.base), local);
@@ -300,20 +345,13 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
       if (!c.closes_cycle) {
         // Tree connection: the child and everything below it turn by ±spatial.
         const Twist tau = slot.first ? spatial : -spatial;
-        const std::vector<int>& moving = below_[static_cast<std::size_t>(slot.connection)];
         const std::vector<char>& below = is_below_[static_cast<std::size_t>(slot.connection)];
         auto moves = [&](int part) { return below[static_cast<std::size_t>(part)] != 0; };
-        // Objective rows.
+        // Objective rows: the mean height moves by τ's velocity at the weighted centre of
+        // mass below (w × Σ mᵢcᵢ + v Σ mᵢ, over the total mass).
         if (objective_ != Objective::kTarget) {
-          double dz = 0;
-          for (int q : moving) {
-            const double m = problem_.masses[static_cast<std::size_t>(q)];
-            if (m == 0) continue;
-            const Rigid<double>& f = frames[static_cast<std::size_t>(q)];
-            const Vec3 com = f.R * problem_.coms[static_cast<std::size_t>(q)] + f.t;
-            dz += m / problem_.total_mass * tau.velocity(com).z();
-          }
-          put(0, dz);
+          const auto c_index = static_cast<std::size_t>(slot.connection);
+          put(0, (tau.w.cross(weighted_below[c_index]) + tau.v * mass_below_[c_index]).z());
         }
         if (target_frame && moves(problem_.target->part.value)) {
           target_derivative(
@@ -387,13 +425,6 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     double scale = 1;
   };
 
-  // Twist dL/dq_j · L⁻¹ of a connector's local transform, in primitive coordinates.
-  static Twist connector_twist(const Primitive& prim, const double* q, int j) {
-    Twist tw;
-    local_connector_twist(prim, q, j, tw.w, tw.v);
-    return tw;
-  }
-
   // A twist given in frame F's coordinates, expressed in world coordinates.
   static Twist adjoint(const Rigid<double>& f, const Twist& local) {
     Twist out;
@@ -461,8 +492,12 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
   int rows_ = 0;
   std::vector<std::vector<int>> below_;
   std::vector<std::vector<char>> is_below_;  // [connection][part]: part is below it
+  std::vector<double> mass_below_;           // [connection]: share of the total mass below it
   std::vector<Slot> slots_;
   std::vector<double> last_, values_, jacobian_;
+  // Per connector side (2 per connection): its local twists at the point being evaluated.
+  std::vector<char> twists_ready_;
+  std::vector<std::array<Vec3, 3>> twist_w_, twist_v_;
 };
 
 /// The scaled variables of `vars` for x, and their bounds (±∞ for unbounded angles).

@@ -71,7 +71,8 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     return e.position_mm * e.position_mm + e.rotation_deg * e.rotation_deg;
   };
   double best_score = score(best.error);
-  std::vector<std::vector<Mat4>> seen_frames;
+  std::vector<std::vector<Mat4>> seen_frames;  // where the candidates rest, settled
+  std::vector<std::vector<Mat4>> seen_fits;    // where the fits ended, before settling
   for (int start = 0; start < std::max(1, o.target_starts); ++start) {
     // Nothing can come nearer a target that is already reached, but the half-turn start may
     // reach it too in a configuration that holds where this one does not: it is still tried.
@@ -150,6 +151,14 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     if (!r.closed) continue;
     for (std::size_t i = 0; i < r.x.size(); ++i) {
       if (a.parameters()[i].spec.tag == ParamTag::kUnbounded) r.x[i] = wrap_360(r.x[i]);
+    }
+    // A fit that ends where an earlier one did settles where that one did: it adds nothing.
+    {
+      const std::vector<Mat4> fitted = a.part_frames(r.x);
+      bool again = false;
+      for (const std::vector<Mat4>& other : seen_fits) again = again || same_poses(fitted, other);
+      if (again) continue;
+      seen_fits.push_back(fitted);
     }
     r.x = settle(p, vars, r.x, o);
     const PoseError e = error_at(p, r.x);
