@@ -11,6 +11,7 @@ solvers::ManifoldSolverOptions solver_options(
   o.projection_tolerance = kProjectionTolerance;
   o.inequality_margin = kInequalityMargin;
   o.neutral_curvature = kNeutralCurvature;
+  o.neutral_slope = kEquilibriumTolerance;
   o.deadline = deadline;
   return o;
 }

@@ -313,6 +313,9 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   }
   if (result.slips.empty() && !at_rest) result.termination = Termination::kNotConverged;
   if (options.deadline && Clock::now() > *options.deadline) {
+    // What was not finished (a relaxation, the second-order check) may leave a pose that only
+    // looks at rest: a result cut by the deadline is never called stable.
+    result.stable = false;
     result.termination = Termination::kTimeout;
     result.diagnostics.error(codes::kTimeLimit,
                              "the solve stopped at its time limit; the result is incomplete");
@@ -344,6 +347,8 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     result.message = "stable";
   } else if (!result.slips.empty()) {
     result.message = fmt::format("falls apart: {}", result.slips.front().message);
+  } else if (result.termination == Termination::kTimeout) {
+    result.message = "stopped at the time limit before the rest state was certified";
   } else {
     result.message =
         result.equilibrium_residual > kEquilibriumTolerance
@@ -371,6 +376,7 @@ std::string SolveResult::summary() const {
                    : !feasible                                    ? "INFEASIBLE"
                    : !slips.empty()                               ? "FALLS APART"
                    : max_penetration_mm > kPenetrationToleranceMm ? "PARTS PASS THROUGH EACH OTHER"
+                   : termination == Termination::kTimeout         ? "STOPPED AT THE TIME LIMIT"
                                                                   : "DID NOT CONVERGE");
   s += fmt::format("  {:<28}{:.3f} mm, {:.3f}°  ({} start{})\n",
                    "target error after step 1",

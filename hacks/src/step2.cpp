@@ -66,10 +66,7 @@ bool watch_more_contacts(Problem& p, const std::vector<double>& x) {
   watch_contacts(after, x);
   bool grown = false;
   for (const PiecePair& w : after.watched) {
-    const bool known = std::any_of(p.watched.begin(), p.watched.end(), [&](const PiecePair& v) {
-      return v.part_a == w.part_a && v.part_b == w.part_b && v.piece_a == w.piece_a &&
-             v.piece_b == w.piece_b;
-    });
+    const bool known = std::find(p.watched.begin(), p.watched.end(), w) != p.watched.end();
     if (!known) {
       p.watched.push_back(w);
       grown = true;
@@ -104,7 +101,9 @@ StabilityReport check_stability(const Problem& p,
                                 const std::vector<double>& x,
                                 const SolveOptions& o) {
   if (vars.index.empty() || p.total_mass <= 0) return {};
-  AssemblySolver assembly_solver(p, vars, x, Objective::kEnergy);
+  // The deadline bounds the second-order check too (a Hessian costs an evaluation per
+  // variable); past it the curvature is not known and the solve reports a time-out.
+  AssemblySolver assembly_solver(p, vars, x, Objective::kEnergy, o.deadline);
   solvers::ManifoldSolver& solver = assembly_solver.solver();
   using Point = solvers::ManifoldSolver::Point;
   using Active = solvers::ManifoldSolver::Active;

@@ -221,7 +221,11 @@ Eigen::MatrixXd ManifoldSolver::lagrangian_hessian(const Point& p, const Active&
     return rows(gl, act.free);
   };
   const Eigen::VectorXd g0 = grad_l(p);
+  H.setZero();
   for (int i = 0; i < nf; ++i) {
+    // A column costs an evaluation; on a long chain the whole matrix costs more than a
+    // deadline's slack, so the deadline is checked per column (the caller stops).
+    if (out_of_time()) break;
     const int k = act.free[static_cast<std::size_t>(i)];
     const double eps = 1e-6 * std::max(1.0, std::abs(p.z[k]));
     Eigen::VectorXd zp = p.z;
@@ -247,6 +251,7 @@ bool ManifoldSolver::close(Eigen::VectorXd& z0, int max_iterations) {
   double mu = 1e-3;
   for (int it = 0; it < max_iterations; ++it) {
     if (cur.h.size() == 0 || cur.h.cwiseAbs().maxCoeff() < options_.projection_tolerance) break;
+    if (out_of_time()) return false;
     const std::vector<int> free = off_bounds(cur);
     if (free.empty()) return false;
     const Eigen::MatrixXd JF = columns(cur.J, free);
@@ -323,8 +328,10 @@ ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
   Curvature c;
   const Active act = active_set(p);
   c.free = act.free;
-  if (act.Z.cols() == 0) return c;
-  Eigen::MatrixXd H = act.Z.transpose() * lagrangian_hessian(p, act) * act.Z;
+  if (act.Z.cols() == 0 || out_of_time()) return c;
+  const Eigen::MatrixXd full = lagrangian_hessian(p, act);
+  if (out_of_time()) return c;  // incomplete: no curvature is reported
+  Eigen::MatrixXd H = act.Z.transpose() * full * act.Z;
   H = 0.5 * (H + H.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
   c.eigenvalues = eig.eigenvalues();
@@ -358,7 +365,9 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
     const Active act = active_set(cur);
     if (act.Z.cols() == 0) break;
     const Eigen::VectorXd rg = act.Z.transpose() * rows(cur.g, act.free);
-    Eigen::MatrixXd H = act.Z.transpose() * lagrangian_hessian(cur, act) * act.Z;
+    const Eigen::MatrixXd full = lagrangian_hessian(cur, act);
+    if (out_of_time()) break;
+    Eigen::MatrixXd H = act.Z.transpose() * full * act.Z;
     H = 0.5 * (H + H.transpose());
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
     const Eigen::VectorXd& raw = eig.eigenvalues();
@@ -380,6 +389,7 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
     Eigen::VectorXd c = V.transpose() * rg;
     for (int i = 0; i < c.size(); ++i) {
       if (std::abs(c[i]) <= 0.1 * options_.gradient_tolerance) c[i] = 0;
+      if (lambda[i] == 0 && std::abs(c[i]) <= options_.neutral_slope) c[i] = 0;
     }
     const bool stationary = rg.cwiseAbs().maxCoeff() < options_.gradient_tolerance;
     if (stationary && lambda[0] >= 0) break;  // a minimum (up to neutral directions)
@@ -418,11 +428,32 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
         p += (c[0] > 0 ? -extra : extra) * V.col(0);
       }
     }
-    const double predicted = -(rg.dot(p) + 0.5 * p.dot(H * p));
-    if (!(predicted > 1e-15 * std::max(1.0, std::abs(cur.f)))) break;  // nothing left to gain
+    // The decrease the model promises: the model the step minimised (neutral curvatures 0),
+    // not the raw Hessian, whose round-off along neutral directions can outweigh a small
+    // slope over a long step and stop the walk before it gets there.
+    const Eigen::VectorXd q = V.transpose() * p;
+    const double predicted = -(c.dot(q) + 0.5 * q.dot(lambda.cwiseProduct(q)));
+    if (!(predicted > 0) || p.norm() < 1e-14) break;  // nothing left to gain
     Point trial = step(cur, act, act.Z * p);
     const double actual = trial.valid ? cur.f - trial.f : -HUGE_VAL;
-    const double rho = actual / predicted;
+    double rho = actual / predicted;
+    // Near a minimum the decrease a step promises can be below what the potential's value
+    // resolves (round-off of f ≈ 1e-13·|f|, while the slope is still above the tolerance):
+    // the ratio is noise there, so such a step is judged by whether it lowers the slope.
+    const double resolvable =
+        1e3 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(cur.f));
+    if (trial.valid && predicted < resolvable) {
+      const Active next = active_set(trial);
+      const double before = rg.cwiseAbs().maxCoeff();
+      const double after =
+          next.Z.cols() > 0 ? (next.Z.transpose() * rows(trial.g, next.free)).cwiseAbs().maxCoeff()
+                            : 0.0;
+      rho = after < 0.5 * before && actual > -resolvable ? 1.0 : 0.0;
+      if (rho > 0) {
+        cur = std::move(trial);
+        continue;
+      }
+    }
     if (trial.valid && actual > 0 && rho > 0.1) {
       if (lambda_min < 0 && stationary) ++out.escapes;
       cur = std::move(trial);

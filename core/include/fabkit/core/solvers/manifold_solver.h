@@ -62,6 +62,10 @@ struct ManifoldSolverOptions {
   /// neutral: the potential does not change along them.
   double neutral_curvature = 1e-6;
   double neutral_floor = 1e-9;
+  /// A neutral direction gets a step only where the potential slopes along it by more than
+  /// this: below it the point is at rest to the caller's tolerance, and walking a flat family
+  /// on round-off would make the answer depend on it (where the world is, the connect order).
+  double neutral_slope = 1e-6;
   /// Longest step (scaled units, ≈ mm or degrees) along neutral directions with a slope, and
   /// of any step: relax() walks, it does not jump.
   double max_step = 50;
@@ -141,7 +145,8 @@ class ManifoldSolver {
   Eigen::MatrixXd lagrangian_hessian(const Point& p, const Active& act);
   /// Minimum-norm Gauss-Newton back onto h = 0, moving only coordinates off their bounds.
   bool project(Point& p);
-  /// The curvature of the potential along the allowed motions at p.
+  /// The curvature of the potential along the allowed motions at p (empty when the deadline
+  /// passes before it is known).
   Curvature curvature(const Point& p);
   const Eigen::VectorXd& lower() const { return lo_; }
   const Eigen::VectorXd& upper() const { return hi_; }
