@@ -169,6 +169,8 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   announce("step2");
   auto t2 = Clock::now();
   std::vector<double> x = step1.x;
+  // Step 1's candidates, each settled with its target held when step 2 first needs it.
+  std::vector<std::vector<double>> settled(step1.candidates.size());
   bool converged = !step1.hit_iteration_limit;
   std::vector<GroupOutcome> outcomes(static_cast<std::size_t>(groups));
   int chosen_candidate = 0;
@@ -180,9 +182,19 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     }
     std::optional<GroupOutcome> best;
     double best_error = 0;
+    std::vector<std::vector<Mat4>> relaxed_from;  // the settled starts relaxed so far
     for (std::size_t c = 0; c < step1.candidates.size(); ++c) {
       if (options.deadline && Clock::now() > *options.deadline) break;
-      GroupOutcome o = relax_and_judge(problem, step1.candidates[c].x);
+      // Settled only now: most candidates are never relaxed (the first that holds ends the
+      // search), and settling costs a relaxation of its own.
+      settled[c] = settle_candidate(steered, step1.candidates[c].x, options);
+      const std::vector<Mat4> settled_frames = assembly.part_frames(settled[c]);
+      bool again = false;
+      for (const std::vector<Mat4>& f : relaxed_from)
+        again = again || same_poses(f, settled_frames);
+      if (again) continue;  // it settled where an earlier one did: it relaxes the same
+      relaxed_from.push_back(settled_frames);
+      GroupOutcome o = relax_and_judge(problem, settled[c]);
       const PoseError e = pose_error(
           *whole.target,
           Rigid<double>::from_matrix(assembly.part_frames(o.x)[whole.target->part.index()]));
@@ -208,13 +220,14 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     }
     if (best) outcomes[static_cast<std::size_t>(g)] = std::move(*best);
   }
-  if (target_group >= 0 && chosen_candidate > 0) {
-    // Step 1's reported result is the start that relaxed into the answer, and what step 2
-    // does not move (fixed joints, where a part sits on a surface) comes from it too.
-    const Step1Result::Candidate& c = step1.candidates[static_cast<std::size_t>(chosen_candidate)];
-    result.step1_parameters = c.x;
-    result.target_step1 = c.error;
-    x = c.x;
+  if (target_group >= 0 && !settled.empty() &&
+      !settled[static_cast<std::size_t>(chosen_candidate)].empty()) {
+    // Step 1's reported result is the (settled) start that relaxed into the answer, and what
+    // step 2 does not move (fixed joints, where a part sits on a surface) comes from it too.
+    const auto chosen = static_cast<std::size_t>(chosen_candidate);
+    result.step1_parameters = settled[chosen];
+    result.target_step1 = step1.candidates[chosen].error;
+    x = settled[chosen];
   }
   bool curved_down = false;  // a group rests where the potential curves down: not a minimum
   bool any_curvature = false;

@@ -13,7 +13,8 @@ PoseError error_at(const Problem& p, const std::vector<double>& x) {
   return pose_error(*p.target, Rigid<double>::from_matrix(frames[p.target->part.index()]));
 }
 
-// Whether two configurations put every part in the same place (within 1e-3 mm and 1e-6 rad).
+}  // namespace
+
 bool same_poses(const std::vector<Mat4>& a, const std::vector<Mat4>& b) {
   for (std::size_t i = 0; i < a.size(); ++i) {
     if ((a[i].topRightCorner<3, 1>() - b[i].topRightCorner<3, 1>()).norm() > 1e-3) return false;
@@ -22,16 +23,12 @@ bool same_poses(const std::vector<Mat4>& a, const std::vector<Mat4>& b) {
   return true;
 }
 
-// With the target held where a start left it, the rest of the hack settles under gravity:
-// the choices step 1 is free to make at no cost to the target (where along a rod an eye hook
-// is screwed in, how a loop turns) go where the weight takes them. Which of those equally
-// good configurations a start ends in is an accident of the start (of the order of the
-// connects); where they settle is not.
-std::vector<double> settle(const Problem& p,
-                           const Variables& vars,
-                           const std::vector<double>& x,
-                           const SolveOptions& o) {
-  if (p.total_mass <= 0) return x;
+std::vector<double> settle_candidate(const Problem& p,
+                                     const std::vector<double>& x,
+                                     const SolveOptions& o) {
+  if (!p.target || p.total_mass <= 0) return x;
+  const Variables vars = select_variables(*p.assembly, /*physics=*/false, &p);
+  if (vars.index.empty()) return x;
   Problem held = p;
   const Rigid<double> now =
       Rigid<double>::from_matrix(p.assembly->part_frames(x)[p.target->part.index()])
@@ -52,8 +49,6 @@ std::vector<double> settle(const Problem& p,
   return r.x;
 }
 
-}  // namespace
-
 Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   const Assembly& a = *p.assembly;
   Step1Result best;
@@ -71,8 +66,7 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     return e.position_mm * e.position_mm + e.rotation_deg * e.rotation_deg;
   };
   double best_score = score(best.error);
-  std::vector<std::vector<Mat4>> seen_frames;  // where the candidates rest, settled
-  std::vector<std::vector<Mat4>> seen_fits;    // where the fits ended, before settling
+  std::vector<std::vector<Mat4>> seen_frames;
   for (int start = 0; start < std::max(1, o.target_starts); ++start) {
     // Nothing can come nearer a target that is already reached, but the half-turn start may
     // reach it too in a configuration that holds where this one does not: it is still tried.
@@ -152,26 +146,17 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     for (std::size_t i = 0; i < r.x.size(); ++i) {
       if (a.parameters()[i].spec.tag == ParamTag::kUnbounded) r.x[i] = wrap_360(r.x[i]);
     }
-    // A fit that ends where an earlier one did settles where that one did: it adds nothing.
-    {
-      const std::vector<Mat4> fitted = a.part_frames(r.x);
-      bool again = false;
-      for (const std::vector<Mat4>& other : seen_fits) again = again || same_poses(fitted, other);
-      if (again) continue;
-      seen_fits.push_back(fitted);
-    }
-    r.x = settle(p, vars, r.x, o);
     const PoseError e = error_at(p, r.x);
     // Starts that end where another did are one candidate. "Where" is every part's pose, not
     // the target error: a symmetric target (a rod end for end) is as near the goal in two
     // configurations that differ in how the hack holds it, and only one of them may hold.
+    // (Candidates are settled by step 2, and only those it relaxes: settle_candidate.)
     const std::vector<Mat4> frames = a.part_frames(r.x);
     bool seen = false;
     for (const std::vector<Mat4>& other : seen_frames) seen = seen || same_poses(frames, other);
-    if (!seen) {
-      best.candidates.push_back({r.x, e, !r.converged});
-      seen_frames.push_back(frames);
-    }
+    if (seen) continue;
+    best.candidates.push_back({r.x, e, !r.converged});
+    seen_frames.push_back(frames);
     if (score(e) < best_score - 1e-9) {
       best_score = score(e);
       best.x = r.x;

@@ -65,9 +65,22 @@ struct Step1Result {
   std::vector<Candidate> candidates;
 };
 
+/// Whether two configurations put every part in the same place (within 1e-3 mm and 1e-6 rad).
+bool same_poses(const std::vector<Mat4>& a, const std::vector<Mat4>& b);
+
 /// Step 1: start 0 is the configuration the connects verified; the others are seeded random
 /// configurations, closed first.
 Step1Result run_step1(const Problem& p, const SolveOptions& o);
+
+/// With the target held where a step-1 candidate `x` puts it, the rest of the hack settles
+/// under gravity: the choices step 1 is free to make at no cost to the target (where along a
+/// rod an eye hook is screwed in, how a loop turns) go where the weight takes them. Which of
+/// those equally good configurations a start ends in is an accident of the start (of the
+/// order of the connects); where they settle is not. `p` is step 1's problem. Step 2 settles
+/// the candidates it relaxes, and only those.
+std::vector<double> settle_candidate(const Problem& p,
+                                     const std::vector<double>& x,
+                                     const SolveOptions& o);
 
 /// Watches, as contact rows of `p`, the piece pairs near each other at `x` (at least one of
 /// them a part of p's group). Without a contact model nothing is watched.
