@@ -1,6 +1,7 @@
 // The hacks kit's commands: check, solve/build (with exports), demo and parts.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -264,7 +265,11 @@ int solve_design(Design design, const DesignSettings& settings, bool write) {
   }
   if (result.stable) return kExitOk;
   if (result.slips.empty()) {
-    std::fprintf(stderr, "error: %s\n", result.message.c_str());
+    // Said once: the verdict's message is usually one of the diagnostics printed above.
+    const bool said = std::any_of(result.diagnostics.begin(),
+                                  result.diagnostics.end(),
+                                  [&](const Diagnostic& d) { return d.message == result.message; });
+    if (!said) std::fprintf(stderr, "error: %s\n", result.message.c_str());
     return kExitInfeasible;
   }
   return kExitFallsApart;

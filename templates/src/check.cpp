@@ -255,6 +255,9 @@ ComposedModel compose_model(std::string_view yaml,
     cm.steps.push_back(std::move(report));
   }
   for (const LoadSpec& l : file_model->loads) {
+    // A composition cut by the deadline lacks the parts it did not make: its loads cannot be
+    // placed, and that is the deadline's doing, not an unknown name in the file.
+    if (stopped) break;
     const auto e = element_by_name(cm.model.model(), l.part);
     if (!e) {
       cm.diagnostics.error(codes::kUnknownName,
@@ -310,7 +313,9 @@ CheckResult check(const ComposedModel& cm,
   StabilityOptions so = options.stability;
   so.friction = cm.friction;
   so.loads = cm.loads;
+  so.deadline = options.deadline;
   out.stability = check_stability(t, db.catalog(), so);
+  if (out.stability.timed_out) return stop("the stability verdict was known");
   out.diagnostics.append(out.stability.diagnostics);
   if (past(options)) return stop("the bill of materials and cut plans");
   BomOptions bo = options.bom;

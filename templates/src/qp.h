@@ -33,6 +33,9 @@ struct Settings {
   Backend backend = Backend::kSlsqp;
   double tolerance = 1e-10;  ///< constraint and step tolerance (relative to the problem scale)
   int max_iterations = 500;
+  /// Stop after this many seconds (a caller's deadline); 0: no limit. A stopped solve is not
+  /// converged and says so in `message`.
+  double max_seconds = 0;
 };
 
 struct Result {

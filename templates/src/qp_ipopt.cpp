@@ -140,6 +140,9 @@ Result solve_ipopt(const Problem& p, const Settings& s) {
   app->Options()->SetNumericValue("constr_viol_tol", s.tolerance);
   app->Options()->SetNumericValue("bound_relax_factor", 0.0);
   app->Options()->SetIntegerValue("max_iter", s.max_iterations);
+  // Ipopt 3.11 (Debian bookworm) has a CPU-time limit, not a wall-clock one; the solve is
+  // single-threaded, so the two agree.
+  if (s.max_seconds > 0) app->Options()->SetNumericValue("max_cpu_time", s.max_seconds);
   app->Options()->SetStringValue("hessian_constant", "yes");
   app->Options()->SetStringValue("jac_c_constant", "yes");
   app->Options()->SetStringValue("jac_d_constant", "yes");

@@ -65,6 +65,7 @@ Result solve_slsqp(const Problem& p, const Settings& s) {
   if (p.upper.size() == p.H.rows()) nlopt_set_upper_bounds(opt, p.upper.data());
   nlopt_set_xtol_abs1(opt, s.tolerance * scale);
   nlopt_set_maxeval(opt, s.max_iterations);
+  if (s.max_seconds > 0) nlopt_set_maxtime(opt, s.max_seconds);
   double f = 0;
   const nlopt_result res = nlopt_optimize(opt, r.z.data(), &f);
   r.iterations = data.evaluations;

@@ -74,7 +74,7 @@ StabilityResult check_stability(const Template& t,
       const Box box = t.box(e);
       const Item* it = catalog.find(t.element(e).item);
       double m = it ? it->part_mass_kg(box.size) : 0.0;
-      if (const auto& pat = t.element(e).pattern) {
+      if (t.element(e).pattern) {
         // A pattern's mass is its parts', not its bounding box's.
         m = 0;
         for (const PlacedPart& p : t.placed_parts()) {
@@ -202,8 +202,26 @@ StabilityResult check_stability(const Template& t,
     s.backend = solver == QpSolver::kIpopt ? qp::Backend::kIpopt : qp::Backend::kSlsqp;
     s.tolerance = 1e-12;
     s.max_iterations = 2000;
-    const qp::Result r = qp::solve(p, s);
+    bool cut = false;
+    if (o.deadline) {
+      const double left = std::chrono::duration<double>(*o.deadline - Clock::now()).count();
+      s.max_seconds = std::max(1e-4, left);
+      cut = left <= 0;
+    }
+    const qp::Result r =
+        cut ? qp::Result{p.start, {}, false, 0, "stopped at the deadline"} : qp::solve(p, s);
     lambda = r.z.cwiseMax(0.0);
+    if (o.deadline && Clock::now() > *o.deadline && !r.converged) {
+      // Cut short: the forces found so far say nothing about what would balance.
+      out.timed_out = true;
+      out.stable = false;
+      for (Body& body : out.bodies) {
+        body.stable = body.anchored;
+        body.verdict = body.anchored ? "anchored" : "unknown";
+      }
+      out.milliseconds = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      return out;
+    }
     if (!r.converged) {
       out.diagnostics.warning(codes::kSolverFailed,
                               fmt::format("the contact-force QP did not converge ({}); the verdict "

@@ -9,6 +9,7 @@
 /// Differs from the paper (one step of staggered projections): the same contact and friction
 /// model, solved as a static equilibrium instead of a dynamics step.
 
+#include <chrono>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,6 +42,8 @@ struct StabilityOptions {
   /// SLSQP's quasi-Newton steps take 130 ms on this rank-deficient least squares).
   std::optional<QpSolver> solver;
   int slsqp_up_to = 96;
+  /// Stop the contact-force QP at this time (a check's deadline); a verdict cut short says so.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 /// One rigid body: principal elements joined by connections.
@@ -57,6 +60,8 @@ struct Body {
 
 struct StabilityResult {
   bool stable = false;
+  /// The contact-force QP was stopped by StabilityOptions::deadline: the verdict is unknown.
+  bool timed_out = false;
   std::vector<Body> bodies;
   std::vector<char> element_stable;  ///< per element of the template (connecting: 1)
   int contacts = 0;                  ///< contact rectangles (floor included)
