@@ -102,6 +102,8 @@ expect_run(6 "stopped at the deadline after" check ${ex}/rods/geodesic_dome.yaml
 expect_run(6 "stopped at the deadline after" check ${ex}/flatpack/bunk_bed.yaml --time-limit 0.001 -q)
 expect_run(6 "nothing written" build ${ex}/flatpack/bunk_bed.yaml -o ${tmp}/bunk --time-limit 0.001 -q)
 expect_run(6 "stopped at the deadline after" check ${ex}/templates/bench_with_backrest.yaml --time-limit 0.001 -q)
+# A model with loads, cut before its parts are made: a time-out, not an unknown part (exit 2).
+expect_run(6 "stopped at the deadline after" check ${ex}/templates/table_with_shelf.yaml --time-limit 0.001 -q)
 expect_run(6 "nothing written" build ${ex}/templates/bench_with_backrest.yaml -o ${tmp}/bench --time-limit 0.001 -q)
 foreach(d nook dome bunk bench)
   file(GLOB written ${tmp}/${d}/*)
