@@ -567,7 +567,11 @@ bool Assembly::verify_closure(ConnectionId id,
     }
   }
   if (!conn.closes_cycle && !(new_multi && has_cycles)) return true;
-  const detail::ClosureResult r = detail::close_cycles(*this, values_, options.verify);
+  // The new connection's group: cycles hanging from fixed parts elsewhere are closed already
+  // and do not move with it.
+  const std::vector<int> groups = graph_.movable_groups();
+  const int group = std::max(groups[conn.first.part.index()], groups[conn.second.part.index()]);
+  const detail::ClosureResult r = detail::close_cycles(*this, values_, options.verify, group);
   report.starts_used = r.starts;
   report.residual = r.cost;
   report.best_parameters = r.x;

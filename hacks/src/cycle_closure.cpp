@@ -26,10 +26,18 @@ struct Layout {
 };
 
 // Parameters that can move a cycle: every connector on the root paths of both sides of
-// each closing connection, plus the closing connection's own.
-Layout make_layout(const Assembly& a) {
+// each closing connection, plus the closing connection's own. With `group` ≥ 0, only the
+// cycles of that movable group: the others hang from fixed parts on their own, and nothing
+// done here can open or close them.
+Layout make_layout(const Assembly& a, int group) {
   Layout layout;
   std::set<int> vars;
+  const std::vector<int> groups = a.graph().movable_groups();
+  auto in_group = [&](ConnectionId id) {
+    if (group < 0) return true;
+    const Connection& c = a.connection(id);
+    return groups[c.first.part.index()] == group || groups[c.second.part.index()] == group;
+  };
   auto add_connector = [&](const Connector& c) {
     for (std::size_t i = 0; i < c.params.size(); ++i) {
       if (!c.params[i].constant) vars.insert(c.offset + static_cast<int>(i));
@@ -43,7 +51,10 @@ Layout make_layout(const Assembly& a) {
       p = up.first.part;
     }
   };
-  const std::vector<ConnectionId> cycles = a.cycle_connections();
+  std::vector<ConnectionId> cycles;
+  for (ConnectionId id : a.cycle_connections()) {
+    if (in_group(id)) cycles.push_back(id);
+  }
   std::set<int> earlier;
   for (std::size_t k = 0; k < cycles.size(); ++k) {
     const ConnectionId id = cycles[k];
@@ -232,8 +243,9 @@ std::vector<ClosureGap> closure_gaps(const Assembly& assembly, const std::vector
 
 ClosureResult close_cycles(const Assembly& assembly,
                            const std::vector<double>& x0,
-                           const VerifyOptions& options) {
-  const Layout layout = make_layout(assembly);
+                           const VerifyOptions& options,
+                           int group) {
+  const Layout layout = make_layout(assembly, group);
   ClosureResult result;
   result.x = x0;
   const std::size_t m = layout.variables.size();

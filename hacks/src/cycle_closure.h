@@ -18,10 +18,13 @@ struct ClosureResult {
 
 /// Searches parameters that close every cycle-closing connection of `assembly` and keep
 /// multiply-connected primitives' connections apart, starting from `x0`, then from
-/// options.restarts - 1 seeded random points; stops at the first success.
+/// options.restarts - 1 seeded random points; stops at the first success. With `group` ≥ 0
+/// (KinematicGraph::movable_groups), only that group's cycles, moving only its parameters:
+/// independent cycles are closed independently.
 ClosureResult close_cycles(const Assembly& assembly,
                            const std::vector<double>& x0,
-                           const VerifyOptions& options);
+                           const VerifyOptions& options,
+                           int group = -1);
 
 /// Per-connection closure error at `x`: position gap in mm and orientation gap in degrees.
 struct ClosureGap {
