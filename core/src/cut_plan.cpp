@@ -140,6 +140,16 @@ struct GlpkProblem {
   ~GlpkProblem() { glp_delete_prob(p); }
 };
 
+// GLPK keeps an environment per thread from its first call until glp_free_env(); a server
+// plans cuts on short-lived job threads, and each kept 5 kB (found by LeakSanitizer). Declared
+// before any problem, it is freed after the last one is deleted.
+struct GlpkEnvironment {
+  GlpkEnvironment() = default;
+  GlpkEnvironment(const GlpkEnvironment&) = delete;
+  GlpkEnvironment& operator=(const GlpkEnvironment&) = delete;
+  ~GlpkEnvironment() { glp_free_env(); }
+};
+
 struct StopAtBound {
   double bound = 0;
 };
@@ -165,6 +175,7 @@ ProgramResult solve_pattern_program(const std::vector<PieceType>& types,
                                     int incumbent,
                                     int known_bound,
                                     Clock::time_point deadline) {
+  const GlpkEnvironment environment;
   ProgramResult result;
   result.lower_bound = known_bound;
   glp_term_out(GLP_OFF);
