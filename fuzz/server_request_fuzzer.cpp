@@ -20,11 +20,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     o.initial_design = "fabkit: hacks/1\nenvironment: []\n";
     return new server::EditorServer(o);
   }();
-  const std::string answer = editor->answer_raw(fuzz::text_of(data, size));
+  const std::string request(fuzz::text_of(data, size));
+  const std::string answer = editor->answer_raw(request);
   if (!answer.empty()) {
     fuzz::require(answer.rfind("HTTP/1.1 ", 0) == 0, "an answer is not HTTP", answer);
   }
-  fuzz::require(
-      answer.find("root:x:0:0") == std::string::npos, "an answer holds /etc/passwd", answer);
+  // /etc/passwd's first line in an answer is a file read, unless the request itself carried
+  // those bytes (a refused Host header is quoted back, truncated, in the error).
+  fuzz::require(request.find("root:x:0:0") != std::string::npos ||
+                    answer.find("root:x:0:0") == std::string::npos,
+                "an answer holds /etc/passwd",
+                answer);
   return 0;
 }
