@@ -38,7 +38,7 @@ int expect_solid_shells(const TriangleMesh& mesh, const std::string& file) {
   return static_cast<int>(shells.size());
 }
 
-class GallerySolids : public ::testing::TestWithParam<std::string> {};
+class GallerySolids : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(GallerySolids, EveryPartIsAClosedSolidInTheFiles) {
   const Design design = testing::load_example(GetParam());
@@ -73,22 +73,10 @@ TEST_P(GallerySolids, EveryPartIsAClosedSolidInTheFiles) {
 
 INSTANTIATE_TEST_SUITE_P(Gallery,
                          GallerySolids,
-                         ::testing::Values("toothbrush_holder",
-                                           "charger_holder",
-                                           "soap_bottle_holder",
-                                           "soap_bottle_one_eyehook",
-                                           "mug_hanger",
-                                           "paper_towel_holder",
-                                           "diaper_caddy",
-                                           "basket_between_rods",
-                                           "bird_feeder",
-                                           "demo",
-                                           "clip_light_xs",
-                                           "clip_light_s",
-                                           "clip_light_m",
-                                           "clip_light_l",
-                                           "reading_nook"),
-                         [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
+                         ::testing::ValuesIn(testing::kGalleryExamples),
+                         [](const ::testing::TestParamInfo<const char*>& p) {
+                           return std::string(p.param);
+                         });
 
 // ParamHanger's `length` is the width the exported file measures, tip to tip (docs/parts.md):
 // the hanger is the environment, at the world origin, and the first shell of the STL.

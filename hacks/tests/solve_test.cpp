@@ -45,23 +45,7 @@ double tilt_deg(const SolveResult& r, const std::string& part) {
   return 0;
 }
 
-constexpr const char* kGallery[] = {
-    "toothbrush_holder",
-    "charger_holder",
-    "soap_bottle_holder",
-    "soap_bottle_one_eyehook",
-    "mug_hanger",
-    "paper_towel_holder",
-    "diaper_caddy",
-    "basket_between_rods",
-    "bird_feeder",
-    "demo",
-    "clip_light_xs",
-    "clip_light_s",
-    "clip_light_m",
-    "clip_light_l",
-    "reading_nook",
-};
+using testing::kGalleryExamples;
 
 class GalleryTest : public ::testing::TestWithParam<const char*> {};
 
@@ -110,7 +94,7 @@ TEST_P(GalleryTest, SolvesStableAtEquilibrium) {
 
 INSTANTIATE_TEST_SUITE_P(Paper,
                          GalleryTest,
-                         ::testing::ValuesIn(kGallery),
+                         ::testing::ValuesIn(kGalleryExamples),
                          [](const ::testing::TestParamInfo<const char*>& p) {
                            return std::string(p.param);
                          });
@@ -407,14 +391,14 @@ TEST_P(GoldenTest, ResultMatchesGolden) {
 
 INSTANTIATE_TEST_SUITE_P(Paper,
                          GoldenTest,
-                         ::testing::ValuesIn(kGallery),
+                         ::testing::ValuesIn(kGalleryExamples),
                          [](const ::testing::TestParamInfo<const char*>& p) {
                            return std::string(p.param);
                          });
 
 // The solvers' twist-based Jacobian equals automatic differentiation through every frame.
 TEST(Solve, AnalyticJacobianMatchesAutomaticDifferentiation) {
-  for (const char* name : kGallery) {
+  for (const char* name : kGalleryExamples) {
     SCOPED_TRACE(name);
     const Design d = load_example(name);
     ASSERT_TRUE(d.feasible());

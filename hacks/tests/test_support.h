@@ -11,6 +11,25 @@
 
 namespace fabkit::hacks::testing {
 
+/// Every design of the paper's gallery (examples/hacks/, docs/gallery.md).
+inline constexpr const char* kGalleryExamples[] = {
+    "toothbrush_holder",
+    "charger_holder",
+    "soap_bottle_holder",
+    "soap_bottle_one_eyehook",
+    "mug_hanger",
+    "paper_towel_holder",
+    "diaper_caddy",
+    "basket_between_rods",
+    "bird_feeder",
+    "demo",
+    "clip_light_xs",
+    "clip_light_s",
+    "clip_light_m",
+    "clip_light_l",
+    "reading_nook",
+};
+
 inline std::shared_ptr<Part> make_part(const std::string& name, const ParamValues& params = {}) {
   Diagnostics d;
   auto p = PartsLibrary::builtin().make(name, params, d);

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "fabkit/server/editor_server.h"
+#include "live_server.h"
 
 namespace fabkit::server {
 namespace {
@@ -20,32 +21,11 @@ namespace {
 using nlohmann::json;
 
 std::string read_rods_example(const std::string& name) {
-  std::ifstream in(std::string(FABKIT_SOURCE_DIR) + "/examples/rods/" + name + ".yaml");
-  EXPECT_TRUE(in) << name;
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  return testing::read_source_file("examples/rods/" + name + ".yaml");
 }
 
-class RodsApiTest : public ::testing::Test {
+class RodsApiTest : public testing::LiveServerTest {
  protected:
-  void SetUp() override {
-    ServerOptions o;
-    o.host = "127.0.0.1";
-    o.port = 0;
-    server_ = std::make_unique<EditorServer>(o);
-    ASSERT_TRUE(server_->bind()) << server_->error();
-    thread_ = std::thread([this] { server_->listen(); });
-    client_ = std::make_unique<httplib::Client>("127.0.0.1", server_->port());
-    client_->set_read_timeout(60, 0);
-    for (int i = 0; i < 100 && !client_->Get("/api/kits"); ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-  }
-  void TearDown() override {
-    server_->stop();
-    if (thread_.joinable()) thread_.join();
-  }
   json post_json(const std::string& path, const std::string& body, int expected_status) {
     auto r = client_->Post(path.c_str(), body, "application/x-yaml");
     EXPECT_TRUE(r);
@@ -53,10 +33,6 @@ class RodsApiTest : public ::testing::Test {
     EXPECT_EQ(r->status, expected_status) << r->body.substr(0, 400);
     return json::parse(r->body);
   }
-
-  std::unique_ptr<EditorServer> server_;
-  std::thread thread_;
-  std::unique_ptr<httplib::Client> client_;
 };
 
 TEST_F(RodsApiTest, KitsListRods) {

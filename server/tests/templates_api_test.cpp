@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "fabkit/server/editor_server.h"
+#include "live_server.h"
 
 namespace fabkit::server {
 namespace {
@@ -18,31 +19,11 @@ namespace {
 using nlohmann::json;
 
 std::string read_file(const std::string& relative) {
-  std::ifstream in(std::string(FABKIT_SOURCE_DIR) + "/" + relative);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  return testing::read_source_file(relative);
 }
 
-class TemplatesApiTest : public ::testing::Test {
+class TemplatesApiTest : public testing::LiveServerTest {
  protected:
-  void SetUp() override {
-    ServerOptions o;
-    o.host = "127.0.0.1";
-    o.port = 0;
-    server_ = std::make_unique<EditorServer>(o);
-    ASSERT_TRUE(server_->bind()) << server_->error();
-    thread_ = std::thread([this] { server_->listen(); });
-    client_ = std::make_unique<httplib::Client>("127.0.0.1", server_->port());
-    client_->set_read_timeout(60, 0);
-    for (int i = 0; i < 100 && !client_->Get("/api/kits"); ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-  }
-  void TearDown() override {
-    server_->stop();
-    if (thread_.joinable()) thread_.join();
-  }
   json post_json(const std::string& path, const json& body, int expect) {
     const auto r = client_->Post(path.c_str(), body.dump(), "application/json");
     EXPECT_TRUE(r);
@@ -67,9 +48,6 @@ class TemplatesApiTest : public ::testing::Test {
     return p["box"]["max"][axis].get<double>() - p["box"]["min"][axis].get<double>();
   }
 
-  std::unique_ptr<EditorServer> server_;
-  std::thread thread_;
-  std::unique_ptr<httplib::Client> client_;
   const std::string model_ = read_file("examples/templates/table_with_shelf.yaml");
 };
 
@@ -145,8 +123,12 @@ TEST_F(TemplatesApiTest, ControlsHideWhatTheConstraintsFix) {
   const json c = post_json("/api/templates/controls", {{"model", model_}, {"node", "top"}}, 200);
   ASSERT_EQ(c["controls"].size(), 6u);
   for (const json& k : c["controls"]) {
-    if (k["control"] == "size_z") EXPECT_TRUE(k["hidden"].get<bool>());  // plywood thickness
-    if (k["control"] == "size_x") EXPECT_FALSE(k["hidden"].get<bool>());
+    if (k["control"] == "size_z") {
+      EXPECT_TRUE(k["hidden"].get<bool>());  // plywood thickness
+    }
+    if (k["control"] == "size_x") {
+      EXPECT_FALSE(k["hidden"].get<bool>());
+    }
   }
   const json fixed =
       post_json("/api/templates/drag",
@@ -192,7 +174,9 @@ TEST_F(TemplatesApiTest, RemovingALegUnderALoadTipsTheTable) {
   EXPECT_FALSE(c["stability"]["stable"].get<bool>());
   EXPECT_EQ(c["verdict"], "unstable");
   for (const json& p : c["parts"]) {
-    if (p["role"] == "principal") EXPECT_FALSE(p["stable"].get<bool>()) << p["name"];
+    if (p["role"] == "principal") {
+      EXPECT_FALSE(p["stable"].get<bool>()) << p["name"];
+    }
   }
 }
 
