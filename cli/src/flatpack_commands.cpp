@@ -69,13 +69,17 @@ void print_analysis(const Analysis& a, bool quiet) {
     for (std::size_t k = 0; k < a.meta_parameters.size(); ++k) {
       const std::string& m = a.meta_parameters[k];
       const auto drives = a.meta_drives.find(m);
-      const std::size_t n = drives == a.meta_drives.end() ? 0 : drives->second.size();
-      std::printf("%s %s = %g (drives %zu dimension%s)",
+      // Absent: the check stopped at its deadline before this one's effect was worked out.
+      const std::string effect = drives == a.meta_drives.end()
+                                     ? std::string("what it drives not worked out")
+                                     : fmt::format("drives {} dimension{}",
+                                                   drives->second.size(),
+                                                   drives->second.size() == 1 ? "" : "s");
+      std::printf("%s %s = %g (%s)",
                   k ? "," : "",
                   m.c_str(),
                   a.values.count(m) ? a.values.at(m) : 0.0,
-                  n,
-                  n == 1 ? "" : "s");
+                  effect.c_str());
     }
     std::printf("\n");
   }

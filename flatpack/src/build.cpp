@@ -140,12 +140,11 @@ Json report_json(const BuildSummary& summary) {
   j["counts"] = counts;
   Json meta = Json::array();
   for (const std::string& m : a.meta_parameters) {
-    const auto it = a.meta_drives.find(m);
+    const auto it = a.meta_drives.find(m);  // absent: cut by the deadline, null
     const auto value = a.values.find(m);
-    meta.push_back(
-        {{"name", m},
-         {"value", value == a.values.end() ? 0.0 : value->second},
-         {"drives", it == a.meta_drives.end() ? std::vector<std::string>{} : it->second}});
+    meta.push_back({{"name", m},
+                    {"value", value == a.values.end() ? 0.0 : value->second},
+                    {"drives", it == a.meta_drives.end() ? Json() : Json(it->second)}});
   }
   j["meta_parameters"] = meta;
   Json values = Json::object();
@@ -225,12 +224,13 @@ BuildSummary build(const Design& design, const BuildOptions& options) {
   s.analysis = check(design, co);
   s.timings = s.analysis.timings;
   s.diagnostics.append(s.analysis.diagnostics);
-  if (!s.analysis.placed) {
-    s.termination = Termination::kInvalid;
-    return s;
-  }
+  // The deadline first: a check it stopped may not have placed the pieces yet.
   if (s.analysis.diagnostics.has_errors_of(DiagnosticClass::kTimeout)) {
     s.termination = Termination::kTimeout;  // nothing nested, nothing written
+    return s;
+  }
+  if (!s.analysis.placed) {
+    s.termination = Termination::kInvalid;
     return s;
   }
   auto t0 = std::chrono::steady_clock::now();

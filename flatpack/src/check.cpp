@@ -69,6 +69,14 @@ Analysis check(const Design& design, const CheckOptions& options) {
   Analysis a;
   a.name = design.name;
   Stopwatch clock(a.timings);
+  // Checked between steps of a fraction of a millisecond each (a meta-parameter's re-solve, a
+  // component's shape), so a deadline of a few milliseconds holds.
+  auto stopped_after = [&](const std::string& stage, const char* left) {
+    if (!options.deadline || std::chrono::steady_clock::now() <= *options.deadline) return false;
+    a.diagnostics.error(codes::kTimeLimit,
+                        fmt::format("stopped at the deadline after {}; {} not done", stage, left));
+    return true;
+  };
   detail::FlatDesign flat;
   if (!detail::flatten(design, flat, a.diagnostics, options.max_components)) return a;
   if (flat.components.empty()) {
@@ -78,35 +86,57 @@ Analysis check(const Design& design, const CheckOptions& options) {
   std::vector<double> values(flat.quantities.size(), 0.0);
   detail::Expressions ex(flat, values);
   if (!detail::solve_quantities(flat, ex, values, a.diagnostics)) return a;
+  if (stopped_after("solving the dimensions",
+                    "what the meta-parameters drive, the shapes, placement, joints and the "
+                    "assembly order were")) {
+    return a;
+  }
   for (std::size_t q = 0; q < flat.quantities.size(); ++q) {
     a.values[flat.quantities[q].name] = values[q];
     if (flat.quantities[q].meta) a.meta_parameters.push_back(flat.quantities[q].name);
     if (flat.quantities[q].component >= 0) ++a.dimension_count;
   }
   // What each meta-parameter drives: solve again with it changed and see which dimensions move.
+  const std::vector<double> solved_values = values;
+  int metas_done = 0;
   for (std::size_t q = 0; q < flat.quantities.size(); ++q) {
     if (!flat.quantities[q].meta) continue;
+    if (stopped_after(fmt::format("solving the dimensions and the effects of {} meta-parameter{}",
+                                  metas_done,
+                                  metas_done == 1 ? "" : "s"),
+                      "the remaining meta-parameters' effects, the shapes, placement, joints "
+                      "and the assembly order were")) {
+      return a;
+    }
+    ++metas_done;
     detail::FlatDesign moved = flat;
     const double v = values[q];
     moved.quantities[q].default_value = flat.quantities[q].kind == ParamKind::kCount
                                             ? v + 1
                                             : v + std::max(1.0, 0.05 * std::abs(v));
-    std::vector<double> again(moved.quantities.size(), 0.0);
-    detail::Expressions ex_again(moved, again);
+    // Solved in the same value slots, so the expressions compiled above are reused; the
+    // design's own values are put back afterwards.
     Diagnostics ignored;  // a change that breaks the design drives what it broke: nothing listed
     std::vector<std::string>& drives = a.meta_drives[flat.quantities[q].name];
-    if (!detail::solve_quantities(moved, ex_again, again, ignored)) continue;
-    for (std::size_t k = 0; k < flat.quantities.size(); ++k) {
+    const bool solved = detail::solve_quantities(moved, ex, values, ignored);
+    for (std::size_t k = 0; solved && k < flat.quantities.size(); ++k) {
       if (flat.quantities[k].component < 0) continue;
-      if (std::abs(again[k] - values[k]) > 1e-9 * std::max(1.0, std::abs(values[k])))
+      if (std::abs(values[k] - solved_values[k]) > 1e-9 * std::max(1.0, std::abs(solved_values[k])))
         drives.push_back(flat.quantities[k].name);
     }
+    std::copy(solved_values.begin(), solved_values.end(), values.begin());
   }
   clock.lap("solve");
 
   // Shapes, with their cut-outs.
   bool ok = true;
   for (const detail::FlatComponent& fc : flat.components) {
+    if (stopped_after(
+            fmt::format(
+                "the shapes of {} of {} components", a.components.size(), flat.components.size()),
+            "the other shapes, placement, joints and the assembly order were")) {
+      return a;
+    }
     PlacedComponent pc;
     pc.name = fc.name;
     pc.type = fc.type->name;
@@ -228,6 +258,8 @@ Analysis check(const Design& design, const CheckOptions& options) {
                         fc.spec->places_only});
   }
   if (!ok) return a;
+  if (stopped_after("the shapes and connections", "placement, joints and the assembly order were"))
+    return a;
   detail::place(a.components, resolved, options, a.diagnostics, &a.residuals);
   if (a.diagnostics.has_errors()) return a;
   // Stand the furniture on the floor: the lowest mid-plane point at z = 0.
@@ -241,12 +273,6 @@ Analysis check(const Design& design, const CheckOptions& options) {
   for (CycleResidual& r : a.residuals) r.frame(2, 3) -= min_z;
   a.placed = true;
   clock.lap("place");
-  auto stopped_after = [&](const char* stage, const char* left) {
-    if (!options.deadline || std::chrono::steady_clock::now() <= *options.deadline) return false;
-    a.diagnostics.error(codes::kTimeLimit,
-                        fmt::format("stopped at the deadline after {}; {} not done", stage, left));
-    return true;
-  };
   if (stopped_after("placing the pieces", "joints and the assembly order were")) return a;
 
   detail::detect_and_cut(a, resolved, design.joints, design.labels, options);

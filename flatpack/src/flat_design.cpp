@@ -349,6 +349,8 @@ constexpr const char* kNameChars =
 }  // namespace
 
 int Expressions::compile(const Expression& e, const std::string& scope, Diagnostics& diags) {
+  std::string key = scope + '\n' + e.text;
+  if (const auto it = compiled_.find(key); it != compiled_.end()) return it->second;
   auto parser = std::make_unique<mu::Parser>();
   std::vector<std::unique_ptr<double>> pool;
   std::vector<int> used;
@@ -389,7 +391,9 @@ int Expressions::compile(const Expression& e, const std::string& scope, Diagnost
   used.erase(std::unique(used.begin(), used.end()), used.end());
   parsers_.push_back(std::move(parser));
   used_.push_back(std::move(used));
-  return static_cast<int>(parsers_.size()) - 1;
+  const int id = static_cast<int>(parsers_.size()) - 1;
+  compiled_.emplace(std::move(key), id);
+  return id;
 }
 
 double Expressions::evaluate(int id) const {

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "fabkit/core/diagnostics.h"
@@ -71,6 +72,8 @@ class Expressions {
  public:
   Expressions(const FlatDesign& flat, std::vector<double>& values);
   /// Compiles `e` in `scope`; -1 with a diagnostic (unknown name with did-you-mean, syntax).
+  /// The same text in the same scope is compiled once (a muParser costs tens of microseconds
+  /// to build, and check() solves the design again for every meta-parameter).
   int compile(const Expression& e, const std::string& scope, Diagnostics& diags);
   /// NaN if the evaluation fails (division by zero gives inf, also reported by callers).
   double evaluate(int id) const;
@@ -81,6 +84,7 @@ class Expressions {
   std::vector<double>& values_;
   std::vector<std::unique_ptr<mu::Parser>> parsers_;
   std::vector<std::vector<int>> used_;
+  std::unordered_map<std::string, int> compiled_;  ///< scope + '\n' + text → id
 };
 
 /// Solves every quantity (linear constraints by an Eigen rank-revealing solve, nonlinear ones by

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -102,6 +103,43 @@ bool edges_balanced(const TriangleMesh& m) {
     if (back == directed.end() || back->second != n) return false;
   }
   return !m.faces.empty();
+}
+
+// Wherever a deadline falls in a build — solving the dimensions, the meta-parameters' effects,
+// shapes, placement, joints, nesting, writing — the only error is the time limit, and a build
+// it stopped wrote nothing: either every file or none (issue 10). Deadlines are placed at
+// fractions of the unlimited build's time; no time is asserted.
+TEST(Examples, ADeadlineAnywhereReportsOnlyTheTimeLimitAndWritesNothing) {
+  using Clock = std::chrono::steady_clock;
+  for (const char* name : {"bunk_bed", "reading_desk", "bookshelf"}) {
+    const Design d = test::example(name);
+    BuildOptions o;
+    o.output_dir = std::filesystem::temp_directory_path() / fmt::format("fabkit-deadline-{}", name);
+    std::filesystem::remove_all(o.output_dir);
+    const auto start = Clock::now();
+    const BuildSummary full = build(d, o);
+    const auto took = Clock::now() - start;
+    ASSERT_EQ(full.termination, Termination::kBuilt) << name << full.diagnostics.format();
+    for (int k = 0; k <= 12; ++k) {
+      std::filesystem::remove_all(o.output_dir);
+      o.deadline = Clock::now() + took * k / 12;
+      const BuildSummary s = build(d, o);
+      for (const Diagnostic& x : s.diagnostics) {
+        if (x.severity != Severity::kError) continue;
+        EXPECT_EQ(x.kind(), DiagnosticClass::kTimeout)
+            << name << " at " << k << "/12 of its time: " << x.message;
+      }
+      if (s.termination == Termination::kTimeout) {
+        const bool wrote_any =
+            std::filesystem::exists(o.output_dir) && !std::filesystem::is_empty(o.output_dir);
+        EXPECT_FALSE(wrote_any) << name << " at " << k << "/12: a stopped build left files";
+      } else {
+        EXPECT_EQ(s.termination, Termination::kBuilt) << name << " at " << k << "/12";
+        EXPECT_TRUE(std::filesystem::exists(o.output_dir / "report.json")) << name;
+      }
+    }
+    std::filesystem::remove_all(o.output_dir);
+  }
 }
 
 class EveryExample : public ::testing::TestWithParam<std::tuple<const char*, double>> {};

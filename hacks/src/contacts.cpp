@@ -56,10 +56,13 @@ bool ContactModel::excluded(int part_a, int piece_a, int part_b, int piece_b) co
   return false;
 }
 
-std::vector<PiecePair> ContactModel::watched_pairs(const std::vector<Mat4>& frames,
-                                                   const std::vector<bool>& moving,
-                                                   double cutoff,
-                                                   std::vector<double>* distances) const {
+std::vector<PiecePair> ContactModel::watched_pairs(
+    const std::vector<Mat4>& frames,
+    const std::vector<bool>& moving,
+    double cutoff,
+    std::vector<double>* distances,
+    std::optional<std::chrono::steady_clock::time_point> deadline,
+    bool* cut_short) const {
   std::vector<PiecePair> out;
   const int n = part_count();
   // World boxes of every body and piece, once: the pair loops below only compare them.
@@ -80,6 +83,10 @@ std::vector<PiecePair> ContactModel::watched_pairs(const std::vector<Mat4>& fram
     for (int b = a + 1; b < n; ++b) {
       if (!has_body(b)) continue;
       if (!moving[static_cast<std::size_t>(a)] && !moving[static_cast<std::size_t>(b)]) continue;
+      if (deadline && std::chrono::steady_clock::now() > *deadline) {
+        if (cut_short) *cut_short = true;
+        return out;
+      }
       if (collision::box_gap(whole[static_cast<std::size_t>(a)],
                              whole[static_cast<std::size_t>(b)]) > cutoff) {
         continue;
@@ -107,10 +114,15 @@ std::vector<PiecePair> ContactModel::watched_pairs(const std::vector<Mat4>& fram
 }
 
 std::vector<ContactModel::PartPairDistance> ContactModel::closest_parts(
-    const std::vector<Mat4>& frames, const std::vector<bool>& moving, double cutoff) const {
+    const std::vector<Mat4>& frames,
+    const std::vector<bool>& moving,
+    double cutoff,
+    std::optional<std::chrono::steady_clock::time_point> deadline,
+    bool* cut_short) const {
   std::vector<PartPairDistance> out;
   std::vector<double> distances;
-  const std::vector<PiecePair> near = watched_pairs(frames, moving, cutoff, &distances);
+  const std::vector<PiecePair> near =
+      watched_pairs(frames, moving, cutoff, &distances, deadline, cut_short);
   for (std::size_t k = 0; k < near.size(); ++k) {
     const PiecePair& w = near[k];
     const double d = distances[k];

@@ -4,7 +4,9 @@
 // and not the two sides of one connection), and their signed distances. Step 2 keeps them
 // apart with one inequality row per watched pair; the verdict lists what touches.
 
+#include <chrono>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "fabkit/core/collision.h"
@@ -36,10 +38,14 @@ class ContactModel {
   /// right there (the basket wall under the rim a hook wraps, the bar of a link at its hook);
   /// the connection itself keeps them where they are.
   /// With `distances`, each returned pair's signed distance is appended to it (computed once).
-  std::vector<PiecePair> watched_pairs(const std::vector<Mat4>& frames,
-                                       const std::vector<bool>& moving,
-                                       double cutoff,
-                                       std::vector<double>* distances = nullptr) const;
+  /// Past `deadline` (checked per pair of parts) it stops and sets `*cut_short`.
+  std::vector<PiecePair> watched_pairs(
+      const std::vector<Mat4>& frames,
+      const std::vector<bool>& moving,
+      double cutoff,
+      std::vector<double>* distances = nullptr,
+      std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt,
+      bool* cut_short = nullptr) const;
 
   /// For each pair of parts (at least one in `moving`) whose bodies come within `cutoff` mm at
   /// `frames`, apart from the pieces a connection joins: the smallest signed distance.
@@ -48,9 +54,12 @@ class ContactModel {
     int part_b = 0;
     double distance = 0;
   };
-  std::vector<PartPairDistance> closest_parts(const std::vector<Mat4>& frames,
-                                              const std::vector<bool>& moving,
-                                              double cutoff) const;
+  std::vector<PartPairDistance> closest_parts(
+      const std::vector<Mat4>& frames,
+      const std::vector<bool>& moving,
+      double cutoff,
+      std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt,
+      bool* cut_short = nullptr) const;
 
   /// Signed distance of a pair at `frames` (negative: interpenetration depth).
   collision::Proximity distance(const PiecePair& p, const std::vector<Mat4>& frames) const;

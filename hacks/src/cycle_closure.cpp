@@ -5,8 +5,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 
 #include "constraints.h"
@@ -132,11 +134,14 @@ constexpr double kPhaseOneGiveUp = 25.0;  // mm², about a 5 mm gap
 // less than 10% progress over the last ten iterations while still open).
 class StallCallback : public ceres::IterationCallback {
  public:
-  explicit StallCallback(double tolerance) : tolerance_(tolerance) {}
+  StallCallback(double tolerance, std::optional<std::chrono::steady_clock::time_point> deadline)
+      : tolerance_(tolerance), deadline_(deadline) {}
   void reset() { history_.clear(); }
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     const double c = 2 * s.cost;  // Ceres reports ½‖r‖²
     if (c <= tolerance_) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    // Checked per iteration: one start's fit of a long cycle takes tens of milliseconds.
+    if (deadline_ && std::chrono::steady_clock::now() > *deadline_) return ceres::SOLVER_ABORT;
     history_.push_back(c);
     if (history_.size() > 10 && c > 0.9 * history_[history_.size() - 11]) {
       return ceres::SOLVER_ABORT;
@@ -146,6 +151,7 @@ class StallCallback : public ceres::IterationCallback {
 
  private:
   double tolerance_;
+  std::optional<std::chrono::steady_clock::time_point> deadline_;
   std::vector<double> history_;
 };
 
@@ -275,7 +281,7 @@ ClosureResult close_cycles(const Assembly& assembly,
   solver_options.num_threads = 1;
   solver_options.logging_type = ceres::SILENT;
   solver_options.minimizer_progress_to_stdout = false;
-  StallCallback stall(options.tolerance);
+  StallCallback stall(options.tolerance, options.deadline);
   solver_options.callbacks.push_back(&stall);
   solver_options.update_state_every_iteration = true;
 

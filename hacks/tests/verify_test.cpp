@@ -1,9 +1,13 @@
 // Connect verification (issue item 7): one invalid design per failure kind, each asserting
 // the diagnostic, its numbers and its line; plus the checks that valid designs pass.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <chrono>
 
 #include "../src/constraints.h"
 #include "fabkit/hacks/diagnostic_codes.h"
+#include "fabkit/hacks/solve.h"
 #include "test_support.h"
 
 namespace fabkit::hacks {
@@ -213,6 +217,49 @@ TEST(Verify, SameInputSameAnswer) {
   const Design a = testing::load_example("bird_feeder");
   const Design b = testing::load_example("bird_feeder");
   EXPECT_EQ(a.assembly.values(), b.assembly.values());
+}
+
+// Wherever a deadline falls in verification or in either solve step, the only error is the
+// time limit: a cut search is not "cannot close", a pose not yet relaxed does not "fall apart"
+// or "pass through", and a cut solve is never stable (issue 10). Deadlines are placed at
+// fractions of the unlimited run's time; no time is asserted.
+TEST(Deadline, AnywhereReportsOnlyTheTimeLimit) {
+  using Clock = std::chrono::steady_clock;
+  auto only_time_limit = [](const Diagnostics& ds, const std::string& what) {
+    for (const Diagnostic& d : ds) {
+      if (d.severity != Severity::kError) continue;
+      EXPECT_EQ(d.kind(), DiagnosticClass::kTimeout) << what << ": " << d.message;
+    }
+  };
+  for (const char* name : testing::kGalleryExamples) {
+    if (std::string(name) == "reading_nook") continue;  // 1 s a run: the deadline bench has it
+    const std::string path = std::string(FABKIT_SOURCE_DIR) + "/examples/hacks/" + name + ".yaml";
+    auto start = Clock::now();
+    const Design whole = load_design(path, PartsLibrary::builtin());
+    const auto verify_time = Clock::now() - start;
+    ASSERT_TRUE(whole.feasible()) << name << whole.diagnostics.format();
+    start = Clock::now();
+    const SolveResult full = solve(whole.assembly);
+    const auto solve_time = Clock::now() - start;
+    for (int k = 0; k < 8; ++k) {
+      const std::string at = fmt::format("{} at {}/8 of its time", name, k);
+      DesignOptions o;
+      o.verify.deadline = Clock::now() + verify_time * k / 8;
+      const Design d = load_design(path, PartsLibrary::builtin(), o);
+      only_time_limit(d.diagnostics, at + " (verification)");
+      SolveOptions so;
+      so.deadline = Clock::now() + solve_time * k / 8;
+      const SolveResult r = solve(whole.assembly, so);
+      if (r.termination == Termination::kTimeout) {
+        only_time_limit(r.diagnostics, at + " (solve)");
+        EXPECT_FALSE(r.stable) << at;
+        EXPECT_NE(r.summary().find("STOPPED AT THE TIME LIMIT"), std::string::npos) << at << "\n"
+                                                                                    << r.summary();
+      } else {
+        EXPECT_EQ(r.stable, full.stable) << at << r.summary();
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -149,10 +149,9 @@ json assemble_json(const Design& design,
   out["values"] = values;
   json meta = json::array();
   for (const std::string& m : a.meta_parameters) {
-    const auto it = a.meta_drives.find(m);
+    const auto it = a.meta_drives.find(m);  // absent: cut by the deadline, null
     meta.push_back(
-        {{"name", m},
-         {"drives", it == a.meta_drives.end() ? std::vector<std::string>{} : it->second}});
+        {{"name", m}, {"drives", it == a.meta_drives.end() ? json() : json(it->second)}});
   }
   out["meta"] = meta;
 

@@ -115,6 +115,10 @@ ComposedModel compose_model(std::string_view yaml,
   cm.model = WorkingModel("model");
   bool failed = false;
   bool stopped = false;
+  SnapOptions snap_options = options.snap;
+  snap_options.manipulate.deadline = options.deadline;
+  ConnectOptions connect_options = options.connect;
+  connect_options.manipulate.deadline = options.deadline;
   for (std::size_t i = 0; i < file_model->steps.size(); ++i) {
     const ModelStep& step = file_model->steps[i];
     if (past(options)) {
@@ -156,8 +160,26 @@ ComposedModel compose_model(std::string_view yaml,
     for (const auto& [k, v] : step.set) {
       set_control(cm, comp->node, k, v, step.where, db.catalog(), outcome);
     }
+    // A snap or connect cut short by the deadline fails for want of time, not because the
+    // parts cannot meet: its errors become the time limit's.
+    auto cut_short = [&](const Diagnostics& found_here, const char* what) {
+      if (!found_here.has_errors() || !past(options)) return false;
+      cm.diagnostics.error(codes::kTimeLimit,
+                           fmt::format("stopped at the deadline while {} step {} of {}; this "
+                                       "step and the rest were not composed",
+                                       what,
+                                       i + 1,
+                                       file_model->steps.size()),
+                           step.where);
+      report.ok = false;
+      report.outcome = "stopped at the deadline";
+      cm.steps.push_back(std::move(report));
+      stopped = true;
+      return true;
+    };
     if (i > 0 && step.snap) {
-      SnapResult s = snap(cm.model, *comp, db, options.snap);
+      SnapResult s = snap(cm.model, *comp, db, snap_options);
+      if (cut_short(s.diagnostics, "snapping")) break;
       append_at(cm.diagnostics, s.diagnostics, step.where);
       cm.model.model().q = s.q;
       int from_source = 0;
@@ -172,7 +194,8 @@ ComposedModel compose_model(std::string_view yaml,
       report.snap = std::move(s);
     }
     if (i > 0 && step.connect) {
-      ConnectResult c = connect(cm.model, *comp, db, options.connect);
+      ConnectResult c = connect(cm.model, *comp, db, connect_options);
+      if (cut_short(c.diagnostics, "connecting")) break;
       append_at(cm.diagnostics, c.diagnostics, step.where);
       int joined = 0;
       std::vector<std::string> sources;
@@ -200,6 +223,7 @@ ComposedModel compose_model(std::string_view yaml,
     cm.steps.push_back(std::move(report));
   }
   for (const Removal& r : file_model->remove) {
+    if (stopped) break;  // what it names may be among the parts not composed
     const Template& t = cm.model.model();
     const NodeId n = t.find_node_or_element(r.node);
     if (!n.valid() || n == t.root()) {
@@ -285,6 +309,17 @@ CheckResult check(const ComposedModel& cm,
     return out;
   }
   const Template& t = cm.model.model();
+  auto stop = [&](const char* before) {
+    if (!cm.diagnostics.has_errors_of(DiagnosticClass::kTimeout)) {
+      out.diagnostics.error(codes::kTimeLimit,
+                            fmt::format("stopped at the deadline before {}", before));
+    }
+    out.verdict = "stopped at the deadline";
+    return out;
+  };
+  // A composition the deadline cut is missing parts: its overlaps and balance mean nothing.
+  if (cm.diagnostics.has_errors_of(DiagnosticClass::kTimeout) || past(options))
+    return stop("checking for overlaps");
   // Principal parts that interpenetrate cannot be built.
   for (int a = 0; a < t.element_count(); ++a) {
     if (!t.element(ElementId(a)).is_principal()) continue;
@@ -301,15 +336,7 @@ CheckResult check(const ComposedModel& cm,
                                         std::round(ba.overlap(bb, 2) * 10) / 10));
     }
   }
-  auto stop = [&](const char* before) {
-    if (!cm.diagnostics.has_errors_of(DiagnosticClass::kTimeout)) {
-      out.diagnostics.error(codes::kTimeLimit,
-                            fmt::format("stopped at the deadline before {}", before));
-    }
-    out.verdict = "stopped at the deadline";
-    return out;
-  };
-  if (past(options)) return stop("checking for overlaps");
+  if (past(options)) return stop("the stability verdict was known");
   StabilityOptions so = options.stability;
   so.friction = cm.friction;
   so.loads = cm.loads;

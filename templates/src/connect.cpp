@@ -273,6 +273,9 @@ ConnectResult connect(WorkingModel& wm,
     std::vector<ElementId> free = mine;
     free.push_back(w);
     for (std::size_t i = 0; i < candidates.size(); ++i) {
+      // Each candidate costs a copy of the model and a projection (about a millisecond): past
+      // the deadline the rest are not tried, and the caller reports the time limit.
+      if (o.manipulate.deadline && std::chrono::steady_clock::now() > *o.manipulate.deadline) break;
       const Candidate& cand = candidates[i];
       const Connection& c = cand.source->connections[cand.connection.value];
       Template trial = model;

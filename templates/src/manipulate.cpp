@@ -158,7 +158,8 @@ ReducedSolution solve_reduced(const Eigen::MatrixXd& H,
                               const Eigen::MatrixXd& Gz,
                               const Eigen::VectorXd& slack,
                               double tol,
-                              QpSolver solver) {
+                              QpSolver solver,
+                              std::optional<Clock::time_point> deadline) {
   ReducedSolution out;
   out.z = llt.solve(-g);
   if (Gz.rows() == 0) return out;
@@ -281,6 +282,10 @@ ReducedSolution solve_reduced(const Eigen::MatrixXd& H,
     qp::Settings s;
     s.backend = solver == QpSolver::kIpopt ? qp::Backend::kIpopt : qp::Backend::kSlsqp;
     s.tolerance = 1e-10;
+    if (deadline) {  // 0 would mean no limit: a deadline already past still stops it at once
+      s.max_seconds =
+          std::max(1e-6, std::chrono::duration<double>(*deadline - Clock::now()).count());
+    }
     const qp::Result res = qp::solve(p, s);
     out.used_solver = true;
     out.iterations += res.iterations;
@@ -761,8 +766,8 @@ DragResult run_drag(const Template& t,
   const Eigen::VectorXd g =
       -2.0 * (weight * delta * session->u + o.placement_weight * bs.SN.transpose() * soft_residual);
   const Eigen::VectorXd slack = m.h - m.G * q_cur;
-  const ReducedSolution sol =
-      solve_reduced(session->H, session->llt, g, bs.GN, slack, o.tolerance_mm, o.solver);
+  const ReducedSolution sol = solve_reduced(
+      session->H, session->llt, g, bs.GN, slack, o.tolerance_mm, o.solver, o.deadline);
   out.q = q_cur + bs.N * sol.z;
   out.used_solver = sol.used_solver;
   out.solver_iterations = sol.iterations;
@@ -878,7 +883,8 @@ ProjectResult project_to_feasible(const Template& t,
   Eigen::LLT<Eigen::MatrixXd> llt(H);
   const Eigen::MatrixXd GN = G * N;
   const Eigen::VectorXd slack = h - G * q0;
-  const ReducedSolution sol = solve_reduced(H, llt, g, GN, slack, o.tolerance_mm, o.solver);
+  const ReducedSolution sol =
+      solve_reduced(H, llt, g, GN, slack, o.tolerance_mm, o.solver, o.deadline);
   out.q = q0 + N * sol.z;
   double violation = eq_violation;
   if (G.rows()) violation = std::max(violation, (G * out.q - h).maxCoeff());

@@ -69,7 +69,10 @@ Result solve_slsqp(const Problem& p, const Settings& s) {
   double f = 0;
   const nlopt_result res = nlopt_optimize(opt, r.z.data(), &f);
   r.iterations = data.evaluations;
-  r.converged = res > 0 || res == NLOPT_ROUNDOFF_LIMITED;
+  // NLopt counts running out of evaluations or time as success (positive codes): neither is
+  // convergence, and a deadline's cut must not pass for an answer.
+  r.converged = (res > 0 && res != NLOPT_MAXEVAL_REACHED && res != NLOPT_MAXTIME_REACHED) ||
+                res == NLOPT_ROUNDOFF_LIMITED;
   if (!r.converged) r.message = std::string("SLSQP: ") + nlopt_result_to_string(res);
   nlopt_destroy(opt);
   return r;

@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <fstream>
+#include <sstream>
+
 #include "fabkit/templates/check.h"
 #include "fabkit/templates/database.h"
 #include "fabkit/templates/diagnostic_codes.h"
@@ -229,6 +233,38 @@ TEST(ModelFile, NotYamlOrNotTemplates) {
   Diagnostics d3;
   EXPECT_FALSE(read_model_file("fabkit: templates/1\nmodel: [\n", "x.yaml", d3));
   EXPECT_TRUE(has_diagnostic(d3, codes::kMalformedInput, "YAML syntax error"));
+}
+
+// Wherever a deadline falls in a composition or its check — between steps, inside a snap or a
+// connect, inside the stability solve — what is reported is the time limit, never an
+// infeasibility or an unknown name the cut left behind (issue 10). The deadline is placed at
+// fractions of the unlimited run's time; no time is asserted.
+TEST(DesignFile, ADeadlineAnywhereReportsOnlyTheTimeLimit) {
+  using Clock = std::chrono::steady_clock;
+  for (const char* example : {"bench_with_backrest", "table_with_shelf", "cabinet_on_wheels"}) {
+    std::ifstream in(std::string(FABKIT_SOURCE_DIR) + "/examples/templates/" + example + ".yaml");
+    std::stringstream text;
+    text << in.rdbuf();
+    ASSERT_FALSE(text.str().empty()) << example;
+    const auto start = Clock::now();
+    const ComposedModel whole = compose_model(text.str(), example, TemplateDatabase::bundled());
+    const CheckResult checked = check(whole, TemplateDatabase::bundled());
+    const auto full = Clock::now() - start;
+    ASSERT_FALSE(whole.diagnostics.has_errors()) << example << whole.diagnostics.format();
+    ASSERT_FALSE(checked.diagnostics.has_errors()) << example << checked.diagnostics.format();
+    for (int k = 0; k <= 10; ++k) {
+      CheckOptions o;
+      o.deadline = Clock::now() + full * k / 10;
+      const ComposedModel cm = compose_model(text.str(), example, TemplateDatabase::bundled(), o);
+      const CheckResult r = check(cm, TemplateDatabase::bundled(), o);
+      for (const Diagnostic& d : r.diagnostics) {  // the composition's, then the checks'
+        if (d.severity != Severity::kError) continue;
+        EXPECT_EQ(d.kind(), DiagnosticClass::kTimeout)
+            << example << " at " << k << "/10 of its time: " << d.message << "\n"
+            << r.diagnostics.format();
+      }
+    }
+  }
 }
 
 }  // namespace

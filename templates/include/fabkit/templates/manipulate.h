@@ -18,6 +18,7 @@
 ///   }
 
 #include <Eigen/Core>
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -60,6 +61,9 @@ struct ManipulateOptions {
   double tolerance_mm = 1e-10;    ///< constraint tolerance of the solution, mm
   bool anchor = true;             ///< keep the root's centre (x, y) and its bottom (z) fixed
   QpSolver solver = QpSolver::kSlsqp;
+  /// Stop the inequality solver here (a check's deadline); what it returns then is not
+  /// converged, so a projection cut short is not feasible.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 /// The outcome of one drag or set.

@@ -26,7 +26,7 @@ export interface SheetPiece { piece: string; rotation_deg: number; rings: [numbe
 export interface SheetLabel { text: string; at: [number, number]; height: number; rotation: number }
 export interface SheetInfo { utilisation: number; pieces: SheetPiece[]; labels: SheetLabel[] }
 export interface Assembly {
-  name: string; placed: boolean; values: Record<string, number>; meta: { name: string; drives: string[] }[];
+  name: string; placed: boolean; values: Record<string, number>; meta: { name: string; drives: string[] | null }[];
   components: ComponentInfo[]; pieces: PieceInfo[]; joints: JointInfo[]; merging_connections: number[];
   residuals: Residual[]; assembly_order: { piece: string; direction: P3; group: number }[];
   sheets: { count: number; width: number; height: number; utilisation: number; list: SheetInfo[] };
