@@ -2,6 +2,9 @@
 // (Ceres), to check the analytic twist Jacobians of kinematics.h in the tests.
 #include <ceres/ceres.h>
 
+#include <cstdint>
+#include <random>
+
 #include "kinematics.h"
 #include "solve_internal.h"
 
@@ -102,6 +105,64 @@ double finite_difference_mismatch(const Assembly& assembly,
       largest = std::max(largest, std::abs(an));
       if (r >= analytic.objectives() + analytic.equalities()) continue;
       worst = std::max(worst, std::abs(fd - an));
+    }
+  }
+  return worst / largest;
+}
+
+double hessian_mismatch(const Assembly& assembly,
+                        const std::vector<double>& x,
+                        bool hold_target,
+                        std::uint64_t seed,
+                        double h) {
+  const Problem p = make_problem(assembly);
+  if (hold_target && !p.target) return 0;
+  const Variables vars = select_variables(assembly, /*physics=*/true);
+  if (vars.index.empty() || p.total_mass <= 0) return 0;
+  const Objective o = hold_target ? Objective::kEnergyHoldingTarget : Objective::kEnergy;
+  AnalyticEvaluator analytic(p, vars, x, o);
+  const std::vector<double> z = to_z(vars, x);
+  const int n = static_cast<int>(z.size());
+  // The held target's rows with random multipliers (their constraint numbers follow the
+  // closures'); none for the plain potential.
+  std::vector<int> rows;
+  Eigen::VectorXd lambda;
+  if (hold_target) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> uniform(-1, 1);
+    int first = 0;
+    for (const auto& axis : p.free_axes) first += axis ? 5 : 6;
+    lambda.resize(kTargetResiduals);
+    for (int i = 0; i < kTargetResiduals; ++i) {
+      rows.push_back(first + i);
+      lambda[i] = uniform(rng) * 1e-3;
+    }
+  }
+  Eigen::MatrixXd exact;
+  if (!analytic.lagrangian_hessian(z.data(), rows, lambda, exact)) return 1;
+  // ∇f − Σ λᵢ ∇rowᵢ at z (constraint row r is Jacobian row objectives() + r).
+  auto gradient = [&](const std::vector<double>& at) {
+    analytic.evaluate(at.data());
+    Eigen::VectorXd g(n);
+    for (int k = 0; k < n; ++k) {
+      g[k] = analytic.gradient(0, k);
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        g[k] -= lambda[static_cast<Eigen::Index>(i)] *
+                analytic.gradient(analytic.objectives() + rows[i], k);
+      }
+    }
+    return g;
+  };
+  double largest = 1e-12;
+  double worst = 0;
+  for (int c = 0; c < n; ++c) {
+    std::vector<double> zp = z, zm = z;
+    zp[static_cast<std::size_t>(c)] += h;
+    zm[static_cast<std::size_t>(c)] -= h;
+    const Eigen::VectorXd fd = (gradient(zp) - gradient(zm)) / (2 * h);
+    for (int k = 0; k < n; ++k) {
+      largest = std::max(largest, std::abs(exact(k, c)));
+      worst = std::max(worst, std::abs(fd[k] - exact(k, c)));
     }
   }
   return worst / largest;

@@ -2,8 +2,10 @@
 
 #include <ceres/jet.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace fabkit::hacks::detail {
 
@@ -34,6 +36,184 @@ void local_connector_twists(const Primitive& prim, const double* q, Vec3* w, Vec
     w[j] = Vec3(omega(2, 1), omega(0, 2), omega(1, 0));
     v[j] = dt - w[j].cross(t);
   }
+}
+
+bool AnalyticEvaluator::exact_lagrangian_hessian(const double* z,
+                                                 const std::vector<int>& rows,
+                                                 const Eigen::VectorXd& lambda,
+                                                 Eigen::MatrixXd& hessian) {
+  if (objective_ == Objective::kTarget || problem_.total_mass <= 0) return false;
+  // Multipliers of the held target's rows (12, in target_residuals' order); spacing rows are
+  // piecewise linear in the parameters and curve nowhere; closure rows are not handled here.
+  const int target_first = cost_.closure_equality_count();
+  std::array<double, kTargetResiduals> on_target{};
+  bool target_curves = false;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const int r = rows[i];
+    if (r < target_first) return false;
+    if (cost_.holds_target() && r < target_first + kTargetResiduals) {
+      on_target[static_cast<std::size_t>(r - target_first)] = lambda[static_cast<Eigen::Index>(i)];
+      target_curves = target_curves || lambda[static_cast<Eigen::Index>(i)] != 0;
+    } else if (r >= equalities() + static_cast<int>(problem_.multi.size())) {
+      return false;  // a contact row that is not flat: not modelled
+    }
+  }
+  const Assembly& a = *problem_.assembly;
+  const std::vector<double> x = expand<double>(vars_, base_, z);
+  const std::vector<Rigid<double>> frames = a.all_part_frames<double>(x.data());
+  const std::size_t connections = a.connections().size();
+  // As in evaluate(): the mass-weighted centre of mass below each tree connection, and the
+  // part just below it.
+  std::vector<Vec3> subtree(frames.size(), Vec3::Zero());
+  for (std::size_t q = frames.size(); q-- > 0;) {
+    const double m = problem_.masses[q];
+    if (m != 0)
+      subtree[q] += m / problem_.total_mass * (frames[q].R * problem_.coms[q] + frames[q].t);
+    const ConnectionId up = a.parent(PartId{static_cast<int>(q)});
+    if (up.valid()) subtree[a.connection(up).first.part.index()] += subtree[q];
+  }
+  std::vector<Vec3> weighted(connections, Vec3::Zero());
+  std::vector<int> child(connections, -1);
+  for (std::size_t q = 0; q < frames.size(); ++q) {
+    const ConnectionId up = a.parent(PartId{static_cast<int>(q)});
+    if (!up.valid()) continue;
+    weighted[up.index()] = subtree[q];
+    child[up.index()] = static_cast<int>(q);
+  }
+  // Per variable of a tree connection: the world twist τ of a unit step of its parameter (the
+  // motion of everything below the connection), and how its connector side's local twists
+  // change with the side's other parameters (central differences on that one connector).
+  struct Moving {
+    bool tree = false;
+    std::size_t connection = 0;
+    std::size_t side = 0;
+    int local = 0;
+    int owner = 0;
+    double sign = 1;
+    Rigid<double> frame;
+    Twist tau;
+  };
+  std::vector<Moving> moving(static_cast<std::size_t>(n_));
+  // [side][k][j]: d(local twist k)/d(parameter j) of that connector side.
+  std::map<std::size_t, std::array<std::array<Twist, 3>, 3>> local_change;
+  for (int k = 0; k < n_; ++k) {
+    const Slot& slot = slots_[static_cast<std::size_t>(k)];
+    const Connection& c = a.connections()[static_cast<std::size_t>(slot.connection)];
+    Moving& mk = moving[static_cast<std::size_t>(k)];
+    if (c.closes_cycle) continue;  // moves only its own connector frame, no mass
+    const Connector& side = slot.first ? c.first : c.second;
+    const Primitive& prim = a.node(side.part).part->primitive(side.primitive);
+    mk.tree = true;
+    mk.connection = static_cast<std::size_t>(slot.connection);
+    mk.side = 2 * mk.connection + (slot.first ? 0 : 1);
+    mk.local = slot.local;
+    mk.owner = side.part.value;
+    mk.sign = slot.first ? 1.0 : -1.0;
+    mk.frame = frames[side.part.index()].then(side.base);
+    std::array<Vec3, 3> w{}, v{};
+    local_connector_twists(prim, x.data() + side.offset, w.data(), v.data());
+    mk.tau = adjoint(mk.frame,
+                     Twist{w[static_cast<std::size_t>(slot.local)],
+                           v[static_cast<std::size_t>(slot.local)]}) *
+             mk.sign;
+    if (local_change.count(mk.side)) continue;
+    auto& change = local_change[mk.side];
+    const int dof = connector_dof(prim.connector_kind());
+    for (int j = 0; j < dof; ++j) {
+      std::array<double, 3> qp{}, qm{};
+      for (int i = 0; i < dof; ++i)
+        qp[static_cast<std::size_t>(i)] = qm[static_cast<std::size_t>(i)] =
+            x[static_cast<std::size_t>(side.offset + i)];
+      const double h = 1e-4 * std::max(1.0, std::abs(qp[static_cast<std::size_t>(j)]));
+      qp[static_cast<std::size_t>(j)] += h;
+      qm[static_cast<std::size_t>(j)] -= h;
+      std::array<Vec3, 3> wp{}, vp{}, wm{}, vm{};
+      local_connector_twists(prim, qp.data(), wp.data(), vp.data());
+      local_connector_twists(prim, qm.data(), wm.data(), vm.data());
+      for (int i = 0; i < dof; ++i) {
+        const auto u = static_cast<std::size_t>(i);
+        change[u][static_cast<std::size_t>(j)] = {(wp[u] - wm[u]) / (2 * h),
+                                                  (vp[u] - vm[u]) / (2 * h)};
+      }
+    }
+  }
+  // g_k = s_k (τ_k.w × W_k + τ_k.v μ_k)_z with W_k, μ_k the weighted centre of mass and mass
+  // share below k's connection. A step of j changes τ_k (the bracket if j moves k's connector
+  // frame; the connector's own second derivative if j is on k's side) and moves the part of
+  // W_k that hangs below j's connection too.
+  // The held target: where it is, and which variables move it.
+  Rigid<double> target;
+  std::size_t target_part = 0;
+  if (target_curves) {
+    target_part = static_cast<std::size_t>(problem_.target->part.value);
+    target = frames[target_part].then(problem_.target->base);
+  }
+  auto moves_target = [&](const Moving& m) {
+    return target_curves && m.tree && is_below_[m.connection][target_part] != 0;
+  };
+  // Σ λᵢ ∂²rowᵢ/∂q_j∂q_k of the target's rows: position p and rotation R move by
+  // dp = τ_k.w × p + τ_k.v and dR = [τ_k.w]× R; a step of j changes τ_k by `d` and, if j moves
+  // the target too, moves p and R under it.
+  auto target_curvature = [&](const Moving& mj, const Moving& mk, const Twist& d) {
+    const bool both = moves_target(mj);
+    const Vec3 dp_j = both ? mj.tau.velocity(target.t) : Vec3::Zero();
+    const Vec3 ddp = d.velocity(target.t) + (both ? mk.tau.w.cross(dp_j) : Vec3::Zero());
+    double sum = 0;
+    for (int i = 0; i < 3; ++i) sum += on_target[static_cast<std::size_t>(i)] * ddp[i];
+    const TargetModel& t = *problem_.target;
+    if (t.symmetry.free_axis) {
+      const Vec3 u = target.R * *t.symmetry.free_axis;
+      const Vec3 ddu = d.w.cross(u) + (both ? mk.tau.w.cross(mj.tau.w.cross(u)) : Vec3::Zero());
+      for (int i = 0; i < 3; ++i)
+        sum += on_target[static_cast<std::size_t>(3 + i)] * ddu[i] * kRadToDeg;
+      return sum;
+    }
+    auto skew = [](const Vec3& w) {
+      Mat3 m;
+      m << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+      return m;
+    };
+    const Mat3 ddr = skew(d.w) * target.R +
+                     (both ? Mat3(skew(mk.tau.w) * skew(mj.tau.w) * target.R) : Mat3(Mat3::Zero()));
+    int row = 3;
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) {
+        sum += on_target[static_cast<std::size_t>(row++)] * ddr(r, c) * kRotationResidualScale;
+      }
+    }
+    return sum;
+  };
+  hessian = Eigen::MatrixXd::Zero(n_, n_);
+  for (int k = 0; k < n_; ++k) {
+    const Moving& mk = moving[static_cast<std::size_t>(k)];
+    if (!mk.tree) continue;
+    const Vec3& w_k = weighted[mk.connection];
+    const double mu_k = mass_below_[mk.connection];
+    for (int j = 0; j < n_; ++j) {
+      const Moving& mj = moving[static_cast<std::size_t>(j)];
+      if (!mj.tree) continue;
+      Twist d;
+      if (is_below_[mj.connection][static_cast<std::size_t>(mk.owner)]) d = mk.tau.moved_by(mj.tau);
+      if (mj.side == mk.side) {
+        d = d + adjoint(mk.frame,
+                        local_change[mk.side][static_cast<std::size_t>(mk.local)]
+                                    [static_cast<std::size_t>(mj.local)]) *
+                    mk.sign;
+      }
+      Vec3 moved = Vec3::Zero();
+      if (is_below_[mk.connection][static_cast<std::size_t>(child[mj.connection])]) {
+        moved = mj.tau.w.cross(weighted[mj.connection]) + mj.tau.v * mass_below_[mj.connection];
+      } else if (is_below_[mj.connection][static_cast<std::size_t>(child[mk.connection])]) {
+        moved = mj.tau.w.cross(w_k) + mj.tau.v * mu_k;
+      }
+      double value = (d.w.cross(w_k) + d.v * mu_k + mk.tau.w.cross(moved)).z();
+      if (moves_target(mk)) value -= target_curvature(mj, mk, d);
+      hessian(j, k) = value * slots_[static_cast<std::size_t>(j)].scale *
+                      slots_[static_cast<std::size_t>(k)].scale;
+    }
+  }
+  hessian = 0.5 * (hessian + hessian.transpose());
+  return true;
 }
 
 bool Problem::covers(const Assembly& a, ConnectionId c) const {

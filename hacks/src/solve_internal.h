@@ -1,6 +1,7 @@
 #pragma once
 // Internals of solve.cpp exposed to the tests.
 
+#include <cstdint>
 #include <vector>
 
 #include "fabkit/hacks/assembly.h"
@@ -18,5 +19,16 @@ double finite_difference_mismatch(const Assembly& assembly,
                                   const std::vector<double>& x,
                                   bool energy,
                                   double h = 1e-6);
+
+/// Largest difference between the analytic Hessian of step 2's Lagrangian
+/// (AnalyticEvaluator::lagrangian_hessian: the potential's, with `hold_target` also the held
+/// target's rows under random multipliers from `seed`) and central finite differences of its
+/// analytic gradient (step `h` in scaled units), relative to the largest entry; 0 if nothing
+/// moves (or no target is held).
+double hessian_mismatch(const Assembly& assembly,
+                        const std::vector<double>& x,
+                        bool hold_target,
+                        std::uint64_t seed = 1,
+                        double h = 1e-5);
 
 }  // namespace fabkit::hacks::detail

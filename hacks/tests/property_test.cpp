@@ -1,6 +1,7 @@
 // Properties that hold for every design, checked on the gallery with seeded random inputs:
 // connector frames are rigid transforms, the solvers' analytic derivatives are the derivatives
 // (against finite differences), and a rejected connect changes nothing.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <random>
@@ -77,6 +78,34 @@ TEST(Properties, AnalyticDerivativesMatchFiniteDifferencesOnRandomConfigurations
       // Step 1's rows (target, closures) and step 2's (potential, closures).
       EXPECT_LT(detail::finite_difference_mismatch(d.assembly, x, false), 1e-5) << name;
       EXPECT_LT(detail::finite_difference_mismatch(d.assembly, x, true), 1e-5) << name;
+    }
+  }
+}
+
+// The exact Hessian of step 2's Lagrangian (the potential's, and the held target's rows when
+// settling) against central differences of its exact gradient, on random configurations of
+// every gallery design and of a long S-hook chain (connections of several kinds, branches,
+// cycles, targets with and without symmetry).
+TEST(Properties, AnalyticHessianMatchesFiniteDifferencesOnRandomConfigurations) {
+  std::mt19937_64 rng(23);
+  std::vector<Design> designs;
+  for (const char* name : kGallery) designs.push_back(load_example(name));
+  std::string chain =
+      "fabkit: hacks/1\nenvironment:\n  - {name: bar, primitives: {rod: {type: rod, radius: 4, "
+      "length: 300}}, frame: {pos: [0, 0, 2000], rot: [90, 0, 0]}}\nparts:\n";
+  for (int i = 0; i < 12; ++i) chain += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
+  chain += "connections:\n  - connect: [s0.hook1, bar.rod]\n";
+  for (int i = 1; i < 12; ++i)
+    chain += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
+  designs.push_back(testing::load_text(chain));
+  for (const Design& d : designs) {
+    ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+    for (int trial = 0; trial < 5; ++trial) {
+      const std::vector<double> x = random_parameters(d.assembly, rng);
+      EXPECT_LT(detail::hessian_mismatch(d.assembly, x, false), 1e-6) << d.name << " " << trial;
+      // With the target held, as the settling between the steps does (random multipliers).
+      EXPECT_LT(detail::hessian_mismatch(d.assembly, x, true, 100 + trial), 1e-6)
+          << d.name << " holding its target, " << trial;
     }
   }
 }

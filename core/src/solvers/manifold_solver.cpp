@@ -207,6 +207,32 @@ Eigen::MatrixXd ManifoldSolver::lagrangian_hessian(const Point& p, const Active&
   for (std::size_t i = 0; i < p.binding.size(); ++i) {
     flat[static_cast<std::size_t>(equalities) + i] = problem_.flat_inequality(p.binding[i]) ? 1 : 0;
   }
+  // The problem's exact Hessian where it has one: no evaluation per column. The rows that
+  // curve are passed with their multipliers (flat ones keep their slope: no curvature).
+  {
+    std::vector<int> curving;
+    Eigen::VectorXd curving_lambda(static_cast<Eigen::Index>(act.rows.size()));
+    for (std::size_t i = 0; i < act.rows.size(); ++i) {
+      const int r = act.rows[i];
+      if (flat[static_cast<std::size_t>(r)]) continue;
+      curving_lambda[static_cast<Eigen::Index>(curving.size())] =
+          lambda[static_cast<Eigen::Index>(i)];
+      curving.push_back(r < equalities ? r
+                                       : problem_.equalities() +
+                                             p.binding[static_cast<std::size_t>(r - equalities)]);
+    }
+    curving_lambda.conservativeResize(static_cast<Eigen::Index>(curving.size()));
+    Eigen::MatrixXd full;
+    if (problem_.lagrangian_hessian(p.z.data(), curving, curving_lambda, full)) {
+      for (int i = 0; i < nf; ++i) {
+        for (int j = 0; j < nf; ++j) {
+          H(i, j) =
+              full(act.free[static_cast<std::size_t>(i)], act.free[static_cast<std::size_t>(j)]);
+        }
+      }
+      return H;
+    }
+  }
   auto grad_l = [&](const Point& q) {
     Eigen::VectorXd gl = q.g;
     // q is evaluated with p's binding rows, so its rows line up with p's.
@@ -301,13 +327,39 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
     const Eigen::MatrixXd A = columns(cur.Jr, act.free) * act.Z;
     const Eigen::VectorXd b = A.transpose() * cur.r;
     if (b.cwiseAbs().maxCoeff() < options_.gradient_tolerance) break;
-    Eigen::MatrixXd N = A.transpose() * A;
-    const double scale = std::max(1e-12, N.diagonal().maxCoeff());
+    // The damped step solves (AᵀA + c·I) p = −Aᵀr. With far fewer residuals than free motions
+    // (a target's twelve rows against a long chain's hundred angles) the same p is
+    // −V·diag(σ/(σ² + c))·Uᵀr from the thin SVD A = UΣVᵀ: a decomposition the size of the
+    // residuals, once per iteration, and stable where the rows are dependent (the nine
+    // rotation entries have three degrees of freedom), which AAᵀ's inverse would not be.
+    // Worth it only well past the residuals' size: below, the motions' own system is as cheap,
+    // and the two differ in round-off, which moves the fits' paths (measured on the gallery).
+    const bool wide = A.cols() > 4 * A.rows();
+    Eigen::MatrixXd N;
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd;
+    Eigen::VectorXd projected;  // Uᵀr
+    if (wide) {
+      svd.compute(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+      projected = svd.matrixU().transpose() * cur.r;
+    } else {
+      N = A.transpose() * A;
+    }
+    // The damping's scale: AᵀA's largest diagonal entry, a column's squared norm.
+    const double scale =
+        std::max(1e-12, wide ? A.colwise().squaredNorm().maxCoeff() : N.diagonal().maxCoeff());
     bool moved = false;
     for (int tries = 0; tries < 12 && !moved; ++tries) {
-      Eigen::MatrixXd M = N;
-      M.diagonal().array() += mu * scale;
-      const Eigen::VectorXd p = -M.ldlt().solve(b);
+      Eigen::VectorXd p;
+      if (wide) {
+        const Eigen::VectorXd& sigma = svd.singularValues();
+        const Eigen::VectorXd weights =
+            (sigma.array() / (sigma.array().square() + mu * scale)).matrix();
+        p = -(svd.matrixV() * weights.cwiseProduct(projected));
+      } else {
+        Eigen::MatrixXd M = N;
+        M.diagonal().array() += mu * scale;
+        p = -M.ldlt().solve(b);
+      }
       Point trial = step(cur, act, act.Z * p);
       if (trial.valid && trial.f < cur.f) {
         moved = cur.f - trial.f > 1e-14 * std::max(1.0, cur.f);
@@ -331,11 +383,14 @@ ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
   if (act.Z.cols() == 0 || out_of_time()) return c;
   const Eigen::MatrixXd full = lagrangian_hessian(p, act);
   if (out_of_time()) return c;  // incomplete: no curvature is reported
-  Eigen::MatrixXd H = act.Z.transpose() * full * act.Z;
+  // With no rows kept Z is the identity (null_space): its products would cost n³ each.
+  const bool unconstrained = act.rows.empty();
+  Eigen::MatrixXd H = unconstrained ? full : Eigen::MatrixXd(act.Z.transpose() * full * act.Z);
   H = 0.5 * (H + H.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
   c.eigenvalues = eig.eigenvalues();
-  const Eigen::MatrixXd local = act.Z * eig.eigenvectors();
+  const Eigen::MatrixXd local =
+      unconstrained ? eig.eigenvectors() : Eigen::MatrixXd(act.Z * eig.eigenvectors());
   c.directions = Eigen::MatrixXd::Zero(n_, local.cols());
   for (std::size_t i = 0; i < act.free.size(); ++i) {
     c.directions.row(act.free[i]) = local.row(static_cast<int>(i));
@@ -367,7 +422,8 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
     const Eigen::VectorXd rg = act.Z.transpose() * rows(cur.g, act.free);
     const Eigen::MatrixXd full = lagrangian_hessian(cur, act);
     if (out_of_time()) break;
-    Eigen::MatrixXd H = act.Z.transpose() * full * act.Z;
+    // With no rows kept Z is the identity (null_space): its products would cost n³ each.
+    Eigen::MatrixXd H = act.rows.empty() ? full : Eigen::MatrixXd(act.Z.transpose() * full * act.Z);
     H = 0.5 * (H + H.transpose());
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
     const Eigen::VectorXd& raw = eig.eigenvalues();

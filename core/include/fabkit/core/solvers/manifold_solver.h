@@ -47,6 +47,20 @@ class ManifoldProblem {
     (void)i;
     return false;
   }
+  /// The Hessian (variables × variables) at z of the Lagrangian f − Σ λₖ·row(rowsₖ), if the
+  /// problem knows it exactly; false to let the solver difference the gradient instead (one
+  /// evaluation per variable). Rows are numbered among the constraints: equality e is e,
+  /// inequality i is equalities() + i; flat inequalities are never passed.
+  virtual bool lagrangian_hessian(const double* z,
+                                  const std::vector<int>& rows,
+                                  const Eigen::VectorXd& lambda,
+                                  Eigen::MatrixXd& hessian) {
+    (void)z;
+    (void)rows;
+    (void)lambda;
+    (void)hessian;
+    return false;
+  }
 };
 
 struct ManifoldSolverOptions {
