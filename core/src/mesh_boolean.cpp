@@ -342,6 +342,16 @@ std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
     return std::nullopt;
   };
   if (add.empty()) return TriangleMesh{};
+  const std::size_t operations = add.size() - 1 + subtract.size();
+  auto stopped = [&](std::size_t done) {
+    if (!options.deadline || std::chrono::steady_clock::now() <= *options.deadline) return false;
+    diags.error(codes::kTimeLimit,
+                fmt::format("{}: stopped at the deadline after {} of {} boolean operations",
+                            what,
+                            done,
+                            operations));
+    return true;
+  };
   try {
     std::vector<ExactMesh> adds(add.size()), subs(subtract.size());
     for (std::size_t i = 0; i < add.size(); ++i) {
@@ -360,6 +370,7 @@ std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
     const bool for_files = options.min_feature_mm > 0;
     ExactMesh result = adds[0];
     for (std::size_t i = 1; i < adds.size(); ++i) {
+      if (stopped(i - 1)) return std::nullopt;
       ExactMesh out;
       if (!PMP::corefine_and_compute_union(result, adds[i], out)) {
         return fail(fmt::format("the union with solid {} is not a manifold", i + 1));
@@ -368,6 +379,7 @@ std::optional<TriangleMesh> mesh_boolean(std::span<const SolidInput> add,
     }
     for (std::size_t i = 0; i < subs.size(); ++i) {
       if (!boxes_overlap(result, subs[i])) continue;
+      if (stopped(adds.size() - 1 + i)) return std::nullopt;
       ExactMesh out;
       if (!PMP::corefine_and_compute_difference(result, subs[i], out)) {
         return fail(fmt::format("subtracting solid {} leaves a non-manifold", i + 1));

@@ -85,7 +85,7 @@ Analysis check(const Design& design, const CheckOptions& options) {
   }
   std::vector<double> values(flat.quantities.size(), 0.0);
   detail::Expressions ex(flat, values);
-  if (!detail::solve_quantities(flat, ex, values, a.diagnostics)) return a;
+  if (!detail::solve_quantities(flat, ex, values, a.diagnostics, options.deadline)) return a;
   if (stopped_after("solving the dimensions",
                     "what the meta-parameters drive, the shapes, placement, joints and the "
                     "assembly order were")) {

@@ -415,7 +415,8 @@ std::string unit_of(ParamKind k) {
 bool solve_quantities(const FlatDesign& flat,
                       Expressions& ex,
                       std::vector<double>& values,
-                      Diagnostics& diags) {
+                      Diagnostics& diags,
+                      std::optional<std::chrono::steady_clock::time_point> deadline) {
   const std::size_t n = flat.quantities.size();
   struct Row {
     int lhs = -1, rhs = -1;
@@ -427,7 +428,19 @@ bool solve_quantities(const FlatDesign& flat,
   bool ok = true;
   std::set<int>
       lhs_named;  // quantities a constraint names alone on its left: defaults do not apply
+  std::size_t compiled = 0;
   for (const FlatConstraint& c : flat.constraints) {
+    // Compiling is most of a first solve (tens of microseconds an expression).
+    if (deadline && std::chrono::steady_clock::now() > *deadline) {
+      diags.error(codes::kTimeLimit,
+                  fmt::format("stopped at the deadline after compiling {} of {} constraints; the "
+                              "dimensions, shapes, placement, joints and the assembly order were "
+                              "not done",
+                              compiled,
+                              flat.constraints.size()));
+      return false;
+    }
+    ++compiled;
     Row r;
     r.c = &c;
     r.lhs = ex.compile(c.lhs, c.scope, diags);

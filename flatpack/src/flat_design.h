@@ -4,6 +4,7 @@
 // and every quantity (parameter or component dimension) numbered for the solver.
 #include <muParser.h>
 
+#include <chrono>
 #include <map>
 #include <memory>
 #include <optional>
@@ -89,9 +90,11 @@ class Expressions {
 
 /// Solves every quantity (linear constraints by an Eigen rank-revealing solve, nonlinear ones by
 /// Newton, defaults for what stays free); names free and conflicting quantities on failure.
+/// Past `deadline` (checked per constraint compiled) it stops with a time-limit error.
 bool solve_quantities(const FlatDesign& flat,
                       Expressions& expressions,
                       std::vector<double>& values,
-                      Diagnostics& diags);
+                      Diagnostics& diags,
+                      std::optional<std::chrono::steady_clock::time_point> deadline = {});
 
 }  // namespace fabkit::flatpack::detail

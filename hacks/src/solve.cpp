@@ -153,7 +153,10 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     out.x = std::move(x0);
     if (!options.relax) watch_contacts(problem, out.x);
     out.verdict = check_stability(problem, vars, out.x, options);
-    out.overlap = deepest_overlap(problem, out.x).depth;
+    // Past the deadline the result is "stopped" whatever it overlaps; the closing contact
+    // listing says what it found.
+    if (!options.deadline || Clock::now() <= *options.deadline)
+      out.overlap = deepest_overlap(problem, out.x).depth;
     return out;
   };
   // Two step-1 errors that are the same to the solver's precision.

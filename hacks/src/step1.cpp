@@ -35,11 +35,14 @@ std::vector<double> settle_candidate(const Problem& p,
           .then(p.target->base);
   held.target->goal = now;
   held.target->goal_turned = now;
-  const StepResult r =
-      avoiding_contacts(held, x, [&](const Problem& q, const std::vector<double>& from) {
+  const StepResult r = avoiding_contacts(
+      held,
+      x,
+      [&](const Problem& q, const std::vector<double>& from) {
         AssemblySolver solver(q, vars, from, Objective::kEnergyHoldingTarget, o.deadline);
         return solver.relax(from, iterations_for(q, o));
-      });
+      },
+      o.deadline);
   if (!r.closed) return x;
   // Settling must not move the target (the projection holds it to round-off).
   const PoseError moved =

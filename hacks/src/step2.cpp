@@ -84,16 +84,20 @@ StepResult run_step2(Problem& p,
     out.x = x1;
     return out;
   }
-  return avoiding_contacts(p, x1, [&](const Problem& q, const std::vector<double>& from) {
-    AssemblySolver solver(q, vars, from, Objective::kEnergy, o.deadline);
-    StepResult r = solver.relax(from, iterations_for(q, o));
-    if (!r.closed && !q.watched.empty()) {
-      // Parts that overlap too deeply for one projection are pulled apart first.
-      std::vector<double> apart = from;
-      if (solver.close(apart, 100)) r = solver.relax(apart, iterations_for(q, o));
-    }
-    return r;
-  });
+  return avoiding_contacts(
+      p,
+      x1,
+      [&](const Problem& q, const std::vector<double>& from) {
+        AssemblySolver solver(q, vars, from, Objective::kEnergy, o.deadline);
+        StepResult r = solver.relax(from, iterations_for(q, o));
+        if (!r.closed && !q.watched.empty()) {
+          // Parts that overlap too deeply for one projection are pulled apart first.
+          std::vector<double> apart = from;
+          if (solver.close(apart, 100)) r = solver.relax(apart, iterations_for(q, o));
+        }
+        return r;
+      },
+      o.deadline);
 }
 
 StabilityReport check_stability(const Problem& p,

@@ -3,6 +3,8 @@
 // step 1 reaches for the target (least squares on the constraint manifold, seeded starts),
 // step 2 relaxes under gravity (Newton on the potential), the verdict finds what slips.
 
+#include <chrono>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -119,11 +121,17 @@ StepResult with_contacts(Problem& p, const std::vector<double>& x, Run run) {
 /// Runs `run` without contact rows first (most results pass through nothing, and contact rows
 /// cost a distance query per pair and evaluation); only a result where parts pass through
 /// each other is run again from `x` with the contacts watched.
+/// Past `deadline` the plain run's result stands: the contact queries after it cost
+/// milliseconds on a long chain, and a result cut by the deadline is never called stable.
 template <class Run>
-StepResult avoiding_contacts(Problem& p, const std::vector<double>& x, Run run) {
+StepResult avoiding_contacts(Problem& p,
+                             const std::vector<double>& x,
+                             Run run,
+                             std::optional<std::chrono::steady_clock::time_point> deadline) {
   p.watched.clear();
   StepResult r = run(p, x);
   if (!p.contacts || !r.closed) return r;
+  if (deadline && std::chrono::steady_clock::now() > *deadline) return r;
   const double plain = deepest_overlap(p, r.x).depth;
   if (plain <= kPenetrationToleranceMm) return r;
   Problem kept = p;

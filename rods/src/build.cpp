@@ -232,6 +232,7 @@ Summary build(const Design& design, const BuildOptions& options) {
   const auto t = Clock::now();
   JointSolidOptions joint_options = options.joint;
   joint_options.engrave = joint_options.engrave && design.engrave;
+  if (!joint_options.deadline) joint_options.deadline = options.deadline;
   const int n = static_cast<int>(st.nodes.size());
   std::vector<std::optional<JointSolid>> made(static_cast<std::size_t>(n));
   std::vector<Diagnostics> diags(static_cast<std::size_t>(n));
@@ -258,8 +259,17 @@ Summary build(const Design& design, const BuildOptions& options) {
   for (int k = 1; k < threads; ++k) pool.emplace_back(worker);
   worker();
   for (std::thread& th : pool) th.join();
+  // A joint the deadline cut inside its booleans says so itself; the summary below says it once.
   Diagnostics diags_of_joints;
-  for (const Diagnostics& d : diags) diags_of_joints.append(d);
+  for (const Diagnostics& d : diags) {
+    for (const Diagnostic& x : d) {
+      if (x.severity == Severity::kError && x.kind() == DiagnosticClass::kTimeout) {
+        timed_out = true;
+      } else {
+        diags_of_joints.add(x);
+      }
+    }
+  }
   if (!std::all_of(made.begin(), made.end(), [](const auto& j) { return j.has_value(); }) ||
       timed_out) {
     s.diagnostics.append(diags_of_joints);

@@ -18,8 +18,6 @@ std::optional<JointSolid> make_joint_solid(const Structure& s,
   const auto started = std::chrono::steady_clock::now();
   const std::string name = s.joint_name(node);
   // Rounding the exact result to double can, in rare near-degenerate configurations, fold a
-  // sliver; a different (still sub-micrometre) separation of the cylinders avoids it.
-  // Rounding the exact result to double can, in rare near-degenerate configurations, fold a
   // sliver that mesh_boolean cannot repair; a different (still sub-micrometre) separation of
   // the cylinders avoids it.
   std::optional<TriangleMesh> joint;
@@ -28,11 +26,14 @@ std::optional<JointSolid> make_joint_solid(const Structure& s,
   for (const double separation : {1.0 / 1024, 3.0 / 1024, 7.0 / 1024}) {
     pieces = joint_pieces(s, p, l, node, separation);
     attempt = Diagnostics{};
+    BooleanOptions boolean;
+    boolean.deadline = options.deadline;
     joint = mesh_boolean(std::span<const SolidInput>(pieces.add),
                          std::span<const SolidInput>(pieces.subtract),
                          name,
-                         attempt);
-    if (joint) break;
+                         attempt,
+                         boolean);
+    if (joint || attempt.has_errors_of(DiagnosticClass::kTimeout)) break;
   }
   if (!joint) {
     diags.append(attempt);

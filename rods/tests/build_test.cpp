@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -74,6 +75,34 @@ TEST(Build, GuitarStandWritesEveryOutput) {
   EXPECT_EQ(assembly["steps"][0]["kind"], "joint");
   EXPECT_GT(std::filesystem::file_size(dir / "scene.glb"), 1000u);
   std::filesystem::remove_all(dir);
+}
+
+// Wherever a deadline falls in a build — the checks, the cut plan, inside a joint's booleans —
+// the only error is the time limit and no joint is reported made that was not (issue 10).
+// Deadlines are placed at fractions of the unlimited build's time; no time is asserted.
+TEST(Build, ADeadlineAnywhereReportsOnlyTheTimeLimit) {
+  using Clock = std::chrono::steady_clock;
+  const Design d = test::load_example("guitar_stand.yaml");
+  BuildOptions o;
+  o.joint.engrave = false;
+  const auto start = Clock::now();
+  const Summary full = build(d, o);
+  const auto took = Clock::now() - start;
+  ASSERT_EQ(full.termination, Termination::kBuilt) << full.diagnostics.format();
+  for (int k = 0; k <= 10; ++k) {
+    o.deadline = Clock::now() + took * k / 10;
+    const Summary s = build(d, o);
+    for (const Diagnostic& x : s.diagnostics) {
+      if (x.severity != Severity::kError) continue;
+      EXPECT_EQ(x.kind(), DiagnosticClass::kTimeout) << k << "/10 of its time: " << x.message;
+    }
+    if (s.termination == Termination::kTimeLimit) {
+      EXPECT_TRUE(has_code(s.diagnostics, codes::kTimeLimit)) << k;
+    } else {
+      EXPECT_EQ(s.termination, Termination::kBuilt) << k << "/10: " << s.diagnostics.format();
+      EXPECT_EQ(s.joints.size(), full.joints.size()) << k;
+    }
+  }
 }
 
 TEST(Build, FailingChecksStillBuildAndSayWhy) {

@@ -10,6 +10,7 @@
 /// Inputs are closed, outward-oriented solids in mm. Every operation works in exact arithmetic
 /// from its double inputs and rounds to double once, at the end.
 
+#include <chrono>
 #include <optional>
 #include <span>
 #include <string>
@@ -85,6 +86,9 @@ struct BooleanOptions {
   /// its coordinates rounded to float32 — else the boolean fails. 0.01 mm is far below what a
   /// printer resolves and far above float32's spacing (0.24 µm at 2 m).
   double min_feature_mm = 0;
+  /// Checked before each binary union and difference (a joint's take tens of milliseconds
+  /// each): past it, nullopt with a time-limit error instead of the rest.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 /// (∪ `add`) \ (∪ `subtract`) of placed solids, exactly, rounded to double once. nullopt with

@@ -2,6 +2,7 @@
 /// Exact, printable joints (Appendix A, Eq. 9): J_i = (H_i ∪ ⋃ C_ij) \ ⋃ E_ij by exact booleans
 /// (CGAL, fabkit::geometry), engraved with the joint's ID (§4.1) and posed for printing.
 
+#include <chrono>
 #include <optional>
 #include <string>
 
@@ -17,6 +18,8 @@ namespace fabkit::rods {
 struct JointSolidOptions {
   bool engrave = true;
   EngravingOptions engraving;
+  /// Checked between the joint's boolean operations: past it, nullopt with a time-limit error.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 struct JointSolid {
