@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <vector>
 
 namespace fabkit {
@@ -99,6 +100,27 @@ TEST(MeshBoolean, CombinedAddAndSubtract) {
   ASSERT_TRUE(r) << d.format();
   EXPECT_TRUE(check_solid(*r).valid_solid());
   EXPECT_NEAR(check_solid(*r).volume, 2000 - 32 - 32, 1e-6);  // half of each 4 mm cube inside
+}
+
+// A deadline already past stops before the first operation, with the time limit and how far
+// it got; a deadline far off changes nothing.
+TEST(MeshBoolean, StopsAtItsDeadlineBetweenOperations) {
+  const std::vector<TriangleMesh> add = {cube(10, {0, 0, 0}), cube(10, {0, 0, 10})};
+  const std::vector<TriangleMesh> sub = {cube(4, {0, 0, 15})};
+  BooleanOptions o;
+  o.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  Diagnostics d;
+  EXPECT_FALSE(mesh_boolean(add, sub, "tower", d, o));
+  ASSERT_TRUE(d.has_errors_of(DiagnosticClass::kTimeout)) << d.format();
+  EXPECT_FALSE(d.has_errors_of(DiagnosticClass::kInternal)) << d.format();
+  EXPECT_NE(d.format().find("tower: stopped at the deadline after 0 of 2 boolean operations"),
+            std::string::npos)
+      << d.format();
+  o.deadline = std::chrono::steady_clock::now() + std::chrono::hours(1);
+  Diagnostics later;
+  const auto r = mesh_boolean(add, sub, "tower", later, o);
+  ASSERT_TRUE(r) << later.format();
+  EXPECT_NEAR(check_solid(*r).volume, 2000 - 32, 1e-6);
 }
 
 TEST(MeshBoolean, RefusesOpenInputWithAMessage) {
