@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <set>
+#include <type_traits>
 
 #include "fabkit/core/yaml_reader.h"
 #include "fabkit/flatpack/diagnostic_codes.h"
@@ -71,10 +72,17 @@ Analysis check(const Design& design, const CheckOptions& options) {
   Stopwatch clock(a.timings);
   // Checked between steps of a fraction of a millisecond each (a meta-parameter's re-solve, a
   // component's shape), so a deadline of a few milliseconds holds.
-  auto stopped_after = [&](const std::string& stage, const char* left) {
+  // `stage` is text or a function making it, called only once the deadline has passed.
+  auto stopped_after = [&](const auto& stage, const char* left) {
     if (!options.deadline || std::chrono::steady_clock::now() <= *options.deadline) return false;
+    std::string done;
+    if constexpr (std::is_invocable_v<decltype(stage)>) {
+      done = stage();
+    } else {
+      done = stage;
+    }
     a.diagnostics.error(codes::kTimeLimit,
-                        fmt::format("stopped at the deadline after {}; {} not done", stage, left));
+                        fmt::format("stopped at the deadline after {}; {} not done", done, left));
     return true;
   };
   detail::FlatDesign flat;
@@ -101,11 +109,14 @@ Analysis check(const Design& design, const CheckOptions& options) {
   int metas_done = 0;
   for (std::size_t q = 0; q < flat.quantities.size(); ++q) {
     if (!flat.quantities[q].meta) continue;
-    if (stopped_after(fmt::format("solving the dimensions and the effects of {} meta-parameter{}",
-                                  metas_done,
-                                  metas_done == 1 ? "" : "s"),
-                      "the remaining meta-parameters' effects, the shapes, placement, joints "
-                      "and the assembly order were")) {
+    if (stopped_after(
+            [&] {
+              return fmt::format("solving the dimensions and the effects of {} meta-parameter{}",
+                                 metas_done,
+                                 metas_done == 1 ? "" : "s");
+            },
+            "the remaining meta-parameters' effects, the shapes, placement, joints "
+            "and the assembly order were")) {
       return a;
     }
     ++metas_done;
@@ -132,8 +143,10 @@ Analysis check(const Design& design, const CheckOptions& options) {
   bool ok = true;
   for (const detail::FlatComponent& fc : flat.components) {
     if (stopped_after(
-            fmt::format(
-                "the shapes of {} of {} components", a.components.size(), flat.components.size()),
+            [&] {
+              return fmt::format(
+                  "the shapes of {} of {} components", a.components.size(), flat.components.size());
+            },
             "the other shapes, placement, joints and the assembly order were")) {
       return a;
     }

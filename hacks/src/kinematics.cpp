@@ -5,7 +5,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <map>
 
 namespace fabkit::hacks::detail {
 
@@ -61,25 +60,7 @@ bool AnalyticEvaluator::exact_lagrangian_hessian(const double* z,
   const Assembly& a = *problem_.assembly;
   const std::vector<double> x = expand<double>(vars_, base_, z);
   const std::vector<Rigid<double>> frames = a.all_part_frames<double>(x.data());
-  const std::size_t connections = a.connections().size();
-  // As in evaluate(): the mass-weighted centre of mass below each tree connection, and the
-  // part just below it.
-  std::vector<Vec3> subtree(frames.size(), Vec3::Zero());
-  for (std::size_t q = frames.size(); q-- > 0;) {
-    const double m = problem_.masses[q];
-    if (m != 0)
-      subtree[q] += m / problem_.total_mass * (frames[q].R * problem_.coms[q] + frames[q].t);
-    const ConnectionId up = a.parent(PartId{static_cast<int>(q)});
-    if (up.valid()) subtree[a.connection(up).first.part.index()] += subtree[q];
-  }
-  std::vector<Vec3> weighted(connections, Vec3::Zero());
-  std::vector<int> child(connections, -1);
-  for (std::size_t q = 0; q < frames.size(); ++q) {
-    const ConnectionId up = a.parent(PartId{static_cast<int>(q)});
-    if (!up.valid()) continue;
-    weighted[up.index()] = subtree[q];
-    child[up.index()] = static_cast<int>(q);
-  }
+  const std::vector<Vec3> weighted = weighted_centres_below(frames);
   // Per variable of a tree connection: the world twist τ of a unit step of its parameter (the
   // motion of everything below the connection), and how its connector side's local twists
   // change with the side's other parameters (central differences on that one connector).
@@ -94,8 +75,9 @@ bool AnalyticEvaluator::exact_lagrangian_hessian(const double* z,
     Twist tau;
   };
   std::vector<Moving> moving(static_cast<std::size_t>(n_));
-  // [side][k][j]: d(local twist k)/d(parameter j) of that connector side.
-  std::map<std::size_t, std::array<std::array<Twist, 3>, 3>> local_change;
+  // [side][k][j]: d(local twist k)/d(parameter j) of that connector side (2 sides a connection).
+  std::vector<std::array<std::array<Twist, 3>, 3>> local_change(2 * a.connections().size());
+  std::vector<char> local_change_ready(local_change.size(), 0);
   for (int k = 0; k < n_; ++k) {
     const Slot& slot = slots_[static_cast<std::size_t>(k)];
     const Connection& c = a.connections()[static_cast<std::size_t>(slot.connection)];
@@ -116,7 +98,8 @@ bool AnalyticEvaluator::exact_lagrangian_hessian(const double* z,
                      Twist{w[static_cast<std::size_t>(slot.local)],
                            v[static_cast<std::size_t>(slot.local)]}) *
              mk.sign;
-    if (local_change.count(mk.side)) continue;
+    if (local_change_ready[mk.side]) continue;
+    local_change_ready[mk.side] = 1;
     auto& change = local_change[mk.side];
     const int dof = connector_dof(prim.connector_kind());
     for (int j = 0; j < dof; ++j) {
@@ -201,9 +184,9 @@ bool AnalyticEvaluator::exact_lagrangian_hessian(const double* z,
                     mk.sign;
       }
       Vec3 moved = Vec3::Zero();
-      if (is_below_[mk.connection][static_cast<std::size_t>(child[mj.connection])]) {
+      if (is_below_[mk.connection][static_cast<std::size_t>(child_[mj.connection])]) {
         moved = mj.tau.w.cross(weighted[mj.connection]) + mj.tau.v * mass_below_[mj.connection];
-      } else if (is_below_[mj.connection][static_cast<std::size_t>(child[mk.connection])]) {
+      } else if (is_below_[mj.connection][static_cast<std::size_t>(child_[mk.connection])]) {
         moved = mj.tau.w.cross(w_k) + mj.tau.v * mu_k;
       }
       double value = (d.w.cross(w_k) + d.v * mu_k + mk.tau.w.cross(moved)).z();

@@ -191,6 +191,12 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
         id = a.connection(a.parent(id)).first.part;
       }
     }
+    // The part just below each tree connection.
+    child_.assign(a.connections().size(), -1);
+    for (int q = 0; q < a.part_count(); ++q) {
+      const ConnectionId up = a.parent(PartId{q});
+      if (up.valid()) child_[up.index()] = q;
+    }
     // The share of the total mass below each tree connection.
     mass_below_.assign(a.connections().size(), 0.0);
     for (std::size_t c = 0; c < below_.size(); ++c) {
@@ -250,25 +256,9 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     jacobian_.assign(static_cast<std::size_t>(rows_ * n_), 0.0);
     const std::vector<Rigid<double>> frames = a.all_part_frames<double>(x.data());
     cost_.fill<double>(x, frames, values_.data());
-    // What hangs below each tree connection, for the potential's slope: its mass-weighted
-    // centre of mass, summed child to parent (parents precede children in the part order).
+    // What hangs below each tree connection, for the potential's slope.
     std::vector<Vec3> weighted_below;
-    if (objective_ != Objective::kTarget) {
-      std::vector<Vec3> subtree(frames.size(), Vec3::Zero());
-      for (std::size_t q = frames.size(); q-- > 0;) {
-        const double m = problem_.masses[q];
-        if (m != 0) {
-          subtree[q] += m / problem_.total_mass * (frames[q].R * problem_.coms[q] + frames[q].t);
-        }
-        const ConnectionId up = a.parent(PartId{static_cast<int>(q)});
-        if (up.valid()) subtree[a.connection(up).first.part.index()] += subtree[q];
-      }
-      weighted_below.assign(a.connections().size(), Vec3::Zero());
-      for (std::size_t q = 0; q < frames.size(); ++q) {
-        const ConnectionId up = a.parent(PartId{static_cast<int>(q)});
-        if (up.valid()) weighted_below[up.index()] = subtree[q];
-      }
-    }
+    if (objective_ != Objective::kTarget) weighted_below = weighted_centres_below(frames);
     // Local twists of each connector side, computed once per side (all its parameters in one
     // pass) when its first variable needs them.
     std::fill(twists_ready_.begin(), twists_ready_.end(), 0);
@@ -447,6 +437,26 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     double scale = 1;
   };
 
+  // The mass-weighted centre of mass below each tree connection (over the total mass, zero
+  // below a closing connection), summed child to parent: parents precede children.
+  std::vector<Vec3> weighted_centres_below(const std::vector<Rigid<double>>& frames) const {
+    const Assembly& a = *problem_.assembly;
+    std::vector<Vec3> subtree(frames.size(), Vec3::Zero());
+    for (std::size_t q = frames.size(); q-- > 0;) {
+      const double m = problem_.masses[q];
+      if (m != 0) {
+        subtree[q] += m / problem_.total_mass * (frames[q].R * problem_.coms[q] + frames[q].t);
+      }
+      const ConnectionId up = a.parent(PartId{static_cast<int>(q)});
+      if (up.valid()) subtree[a.connection(up).first.part.index()] += subtree[q];
+    }
+    std::vector<Vec3> below(child_.size(), Vec3::Zero());
+    for (std::size_t c = 0; c < child_.size(); ++c) {
+      if (child_[c] >= 0) below[c] = subtree[static_cast<std::size_t>(child_[c])];
+    }
+    return below;
+  }
+
   // A twist given in frame F's coordinates, expressed in world coordinates.
   static Twist adjoint(const Rigid<double>& f, const Twist& local) {
     Twist out;
@@ -515,6 +525,7 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
   std::vector<std::vector<int>> below_;
   std::vector<std::vector<char>> is_below_;  // [connection][part]: part is below it
   std::vector<double> mass_below_;           // [connection]: share of the total mass below it
+  std::vector<int> child_;                   // [connection]: the part just below it, or -1
   std::vector<Slot> slots_;
   std::vector<double> last_, values_, jacobian_;
   // Per connector side (2 per connection): its local twists at the point being evaluated.
