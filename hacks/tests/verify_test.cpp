@@ -241,14 +241,14 @@ TEST(Deadline, AnywhereReportsOnlyTheTimeLimit) {
     start = Clock::now();
     const SolveResult full = solve(whole.assembly);
     const auto solve_time = Clock::now() - start;
-    for (int k = 0; k < 8; ++k) {
-      const std::string at = fmt::format("{} at {}/8 of its time", name, k);
+    for (int k = 0; k < 16; ++k) {
+      const std::string at = fmt::format("{} at {}/16 of its time", name, k);
       DesignOptions o;
-      o.verify.deadline = Clock::now() + verify_time * k / 8;
+      o.verify.deadline = Clock::now() + verify_time * k / 16;
       const Design d = load_design(path, PartsLibrary::builtin(), o);
       only_time_limit(d.diagnostics, at + " (verification)");
       SolveOptions so;
-      so.deadline = Clock::now() + solve_time * k / 8;
+      so.deadline = Clock::now() + solve_time * k / 16;
       const SolveResult r = solve(whole.assembly, so);
       if (r.termination == Termination::kTimeout) {
         only_time_limit(r.diagnostics, at + " (solve)");
