@@ -69,6 +69,24 @@ Vec3 Body::piece_max(int piece) const {
   return pieces_->hi.at(static_cast<std::size_t>(piece));
 }
 
+CachedBody& CachedBody::operator=(const CachedBody& other) {
+  if (this != &other) {
+    const std::lock_guard lock(mutex_);
+    body_.reset();
+  }
+  return *this;
+}
+
+Body CachedBody::get(std::span<const TriangleMesh> pieces, std::span<const int> tags) const {
+  const std::lock_guard lock(mutex_);
+  if (!body_ || built_from_ != pieces.data() || built_count_ != pieces.size()) {
+    body_.emplace(pieces, tags);
+    built_from_ = pieces.data();
+    built_count_ = pieces.size();
+  }
+  return *body_;
+}
+
 namespace {
 
 fcl::Transform3d to_fcl(const Mat4& m) {

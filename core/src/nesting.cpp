@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <optional>
 
 #include "nest2d_backend.h"
 
@@ -127,10 +128,19 @@ NestingResult nest(const std::vector<Polygon2d>& pieces,
   input.bin_max_y = mm(options.sheet_height_mm - options.margin_mm);
   input.spacing = mm(options.spacing_mm);
   bool timed_out = false;
+  // libnest2d asks between placements, and one placement (its no-fit polygons against what is
+  // on the sheet) takes milliseconds: a placement that would not end before the deadline,
+  // judged by the longest gap between two questions so far, is not started.
+  using Clock = std::chrono::steady_clock;
+  std::optional<Clock::time_point> asked;
+  Clock::duration longest{};
   if (options.deadline) {
     const auto deadline = *options.deadline;
-    input.stop = [deadline, &timed_out] {
-      timed_out = std::chrono::steady_clock::now() > deadline;
+    input.stop = [deadline, &timed_out, &asked, &longest] {
+      const auto now = Clock::now();
+      if (asked) longest = std::max(longest, now - *asked);
+      asked = now;
+      timed_out = timed_out || now + longest > deadline;
       return timed_out;
     };
   }

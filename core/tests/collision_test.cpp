@@ -86,5 +86,32 @@ TEST(Collision, BodyKeepsTagsAndBounds) {
   EXPECT_NEAR(b.piece_max(0).y(), 2, 1e-12);
 }
 
+// A part's body is built once and kept; a copy of its owner (which may then be edited)
+// starts without one, and a change of the pieces builds it again.
+TEST(CachedBody, KeptByItsOwnerNotByCopies) {
+  struct Owner {
+    std::vector<TriangleMesh> pieces;
+    std::vector<int> tags;
+    CachedBody body;
+  };
+  Owner original{{block(Vec3(0, 0, 0), Vec3(10, 10, 10))}, {-1}, {}};
+  const Body first = original.body.get(original.pieces, original.tags);
+  EXPECT_EQ(first.piece_count(), 1);
+  EXPECT_EQ(original.body.get(original.pieces, original.tags).bounds_max(), Vec3(10, 10, 10));
+
+  Owner copy = original;
+  copy.pieces.push_back(block(Vec3(20, 0, 0), Vec3(30, 10, 10)));
+  copy.tags.push_back(3);
+  const Body edited = copy.body.get(copy.pieces, copy.tags);
+  EXPECT_EQ(edited.piece_count(), 2);
+  EXPECT_EQ(edited.tag(1), 3);
+  EXPECT_EQ(edited.bounds_max(), Vec3(30, 10, 10));
+  EXPECT_EQ(original.body.get(original.pieces, original.tags).piece_count(), 1);
+
+  original.pieces.push_back(block(Vec3(0, 0, 20), Vec3(10, 10, 40)));
+  original.tags.push_back(-1);
+  EXPECT_EQ(original.body.get(original.pieces, original.tags).bounds_max(), Vec3(10, 10, 40));
+}
+
 }  // namespace
 }  // namespace fabkit::collision

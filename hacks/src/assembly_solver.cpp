@@ -4,7 +4,7 @@ namespace fabkit::hacks::detail {
 namespace {
 
 solvers::ManifoldSolverOptions solver_options(
-    std::optional<std::chrono::steady_clock::time_point> deadline) {
+    const Problem& p, std::optional<std::chrono::steady_clock::time_point> deadline) {
   solvers::ManifoldSolverOptions o;
   o.gradient_tolerance = kGradientTolerance;
   o.feasibility_tolerance = kClosureTolerance;
@@ -12,7 +12,8 @@ solvers::ManifoldSolverOptions solver_options(
   o.inequality_margin = kInequalityMargin;
   o.neutral_curvature = kNeutralCurvature;
   o.neutral_slope = kEquilibriumTolerance;
-  o.deadline = deadline;
+  // The solve's shared deadline; a problem made on its own stops at its own.
+  o.stop = p.stop ? p.stop : deadline ? std::make_shared<const StopClock>(deadline) : nullptr;
   return o;
 }
 
@@ -37,7 +38,7 @@ AssemblySolver::AssemblySolver(const Problem& p,
     : problem_(p),
       vars_(v),
       eval_(p, v, x, o),
-      solver_(eval_, lower(*p.assembly, v), upper(*p.assembly, v), solver_options(deadline)) {}
+      solver_(eval_, lower(*p.assembly, v), upper(*p.assembly, v), solver_options(p, deadline)) {}
 
 bool AssemblySolver::close(std::vector<double>& x, int max_iterations) {
   Eigen::VectorXd z = scaled(vars_, x);

@@ -7,7 +7,7 @@ namespace fabkit::hacks::detail {
 ContactModel::ContactModel(const Assembly& a) {
   for (const PartNode& n : a.nodes()) {
     const Part& part = *n.part;
-    bodies_.emplace_back(part.collision_pieces, part.collision_tags);
+    bodies_.push_back(part.collision_body.get(part.collision_pieces, part.collision_tags));
   }
   for (const Connection& c : a.connections()) {
     joined_.push_back({c.first.part.value,

@@ -41,6 +41,9 @@ struct Problem {
   /// pairs kept apart, one inequality row each (−distance ≤ 0). None: parts may overlap.
   std::shared_ptr<const ContactModel> contacts;
   std::vector<PiecePair> watched;
+  /// The solve's deadline, shared by its problems: a step that could not finish before it
+  /// calls it, and every later step sees it. None: only SolveOptions::deadline is looked at.
+  std::shared_ptr<const StopClock> stop;
   /// Whether connection `c` moves parts of this problem's group.
   bool covers(const Assembly& a, ConnectionId c) const;
 };

@@ -48,7 +48,7 @@ struct Bounds {
 };
 
 // Slivers under 10 µm are removed from the union, so that it stays a solid in float32 files.
-constexpr BooleanOptions kForFiles{0.01};
+const BooleanOptions kForFiles{.min_feature_mm = 0.01, .deadline = std::nullopt};
 
 // Pieces are drawn to meet flush (a rod's end on a bracket's face, one hook's end cap on the
 // next hook's), but computed along different paths (rotations, sin and cos), so what should

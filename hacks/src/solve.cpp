@@ -79,7 +79,14 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     result.diagnostics.error(codes::kNoEnvironment, "solve: the assembly is empty");
     return result;
   }
-  const Problem whole = make_problem(assembly);
+  // One deadline for every step of the solve (a step that could not finish before it calls
+  // it, and the rest stop too).
+  const auto stop = std::make_shared<const StopClock>(options.deadline);
+  const Problem whole = [&] {
+    Problem p = make_problem(assembly);
+    p.stop = stop;
+    return p;
+  }();
   if (!whole.target) {
     result.termination = Termination::kNoTarget;
     result.diagnostics.warning(codes::kTargetMissing,
@@ -113,6 +120,7 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   auto t1 = Clock::now();
   Problem steered = make_problem(assembly, target_group);
   steered.contacts = contacts;
+  steered.stop = stop;
   const Step1Result step1 = run_step1(whole.target ? steered : whole, options);
   result.timings.push_back({"step1", ms_since(t1)});
   result.step1_parameters = step1.x;
@@ -155,8 +163,7 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     out.verdict = check_stability(problem, vars, out.x, options);
     // Past the deadline the result is "stopped" whatever it overlaps; the closing contact
     // listing says what it found.
-    if (!options.deadline || Clock::now() <= *options.deadline)
-      out.overlap = deepest_overlap(problem, out.x).depth;
+    if (!stop->passed()) out.overlap = deepest_overlap(problem, out.x).depth;
     return out;
   };
   // Two step-1 errors that are the same to the solver's precision.
@@ -178,7 +185,8 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   std::vector<GroupOutcome> outcomes(static_cast<std::size_t>(groups));
   int chosen_candidate = 0;
   for (int g = 0; g < groups; ++g) {
-    const Problem problem = make_problem(assembly, g);
+    Problem problem = make_problem(assembly, g);
+    problem.stop = stop;
     if (g != target_group) {
       outcomes[static_cast<std::size_t>(g)] = relax_and_judge(problem, step1.x);
       continue;
@@ -187,7 +195,7 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     double best_error = 0;
     std::vector<std::vector<Mat4>> relaxed_from;  // the settled starts relaxed so far
     for (std::size_t c = 0; c < step1.candidates.size(); ++c) {
-      if (options.deadline && Clock::now() > *options.deadline) break;
+      if (stop->passed()) break;
       // Settled only now: most candidates are never relaxed (the first that holds ends the
       // search), and settling costs a relaxation of its own.
       settled[c] = settle_candidate(steered, step1.candidates[c].x, options);
@@ -315,7 +323,7 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   }
   // Cut by the deadline, the pose is where the work stopped, not an answer: what it shows (an
   // overlap, a slip) is not said of the design; the time limit is the verdict.
-  const bool timed_out = options.deadline && Clock::now() > *options.deadline;
+  const bool timed_out = stop->passed();
   const bool overlapping = result.max_penetration_mm > kPenetrationToleranceMm;
   if (overlapping) {
     const PartContact& c = result.contacts.front();

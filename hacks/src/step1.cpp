@@ -100,7 +100,7 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
             s.lo + keyed_uniform(o.seed, start, a.parameter_key(v)) * (s.hi - s.lo);
       }
     }
-    if (o.deadline && std::chrono::steady_clock::now() > *o.deadline) break;
+    if (past_deadline(p, o)) break;
     AssemblySolver solver(p, vars, x0, Objective::kTarget, o.deadline);
     if (start > 0 && !solver.close(x0, 100)) {
       // The local closing failed from this start: the verification's global search (two

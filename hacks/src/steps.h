@@ -101,6 +101,12 @@ Overlap deepest_overlap(const Problem& p, const std::vector<double>& x);
 /// Runs `run(problem, start)` with the contact pairs near `x` watched; a part can move
 /// farther than the watch distance in one run, so while the result comes near pairs not yet
 /// watched, they are added and it runs again from there (rarely more than twice).
+/// Whether the solve's deadline has passed (or was called by a step that could not finish).
+inline bool past_deadline(const Problem& p, const SolveOptions& o) {
+  if (p.stop) return p.stop->passed();
+  return o.deadline && std::chrono::steady_clock::now() > *o.deadline;
+}
+
 /// Iterations of one run: runs with contact rows get fewer (each evaluation queries every
 /// watched pair, and a run that needs more rarely gets anywhere with them).
 inline int iterations_for(const Problem& q, const SolveOptions& o) {
@@ -131,7 +137,8 @@ StepResult avoiding_contacts(Problem& p,
   p.watched.clear();
   StepResult r = run(p, x);
   if (!p.contacts || !r.closed) return r;
-  if (deadline && std::chrono::steady_clock::now() > *deadline) return r;
+  if ((deadline && std::chrono::steady_clock::now() > *deadline) || (p.stop && p.stop->passed()))
+    return r;
   const double plain = deepest_overlap(p, r.x).depth;
   if (plain <= kPenetrationToleranceMm) return r;
   Problem kept = p;

@@ -449,7 +449,9 @@ TEST(Physics, LoadsInAHangersNotchTiltItByTheAngleStaticsGives) {
     const Vec3 down_local = rot.transpose() * Vec3(0, 0, -1);
     const double solved = std::atan2(a_local.cross(down_local).x(), a_local.dot(down_local)) *
                           180.0 / std::numbers::pi;
-    if (!jammed) EXPECT_NEAR(solved, predicted, 0.5) << r.summary();
+    if (!jammed) {
+      EXPECT_NEAR(solved, predicted, 0.5) << r.summary();
+    }
     // Everything hanging from the rod: its centre of mass is straight below O.
     Vec3 moment = Vec3::Zero();
     double total = 0;
@@ -463,7 +465,9 @@ TEST(Physics, LoadsInAHangersNotchTiltItByTheAngleStaticsGives) {
     if (c.left == c.right) {
       EXPECT_NEAR(solved, 0.0, 0.5) << "no loads, or equal ones, keep it level";
     }
-    if (c.right == "mug" && c.left != "mug") EXPECT_GT(std::abs(solved), 5.0) << "a mug tilts it";
+    if (c.right == "mug" && c.left != "mug") {
+      EXPECT_GT(std::abs(solved), 5.0) << "a mug tilts it";
+    }
     checked_free += jammed ? 0 : 1;
   }
   EXPECT_GE(checked_free, 4);  // two mugs, or an S-hook across from a mug, jam the S-hooks

@@ -1,6 +1,7 @@
 #include "fabkit/core/solvers/manifold_solver.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -20,8 +21,38 @@ ManifoldSolver::ManifoldSolver(ManifoldProblem& problem,
       options_(options) {}
 
 bool ManifoldSolver::out_of_time() const {
-  return options_.deadline && Clock::now() > *options_.deadline;
+  return options_.stop && options_.stop->passed();
 }
+
+bool ManifoldSolver::no_time_for(Clock::duration cost) const {
+  return options_.stop && options_.stop->would_pass(cost);
+}
+
+namespace {
+
+// What a trust-region iteration (reduced Hessian, its eigendecomposition, the step) cost per
+// cube of the motions, lately, in any solver of the process: a solver's first iteration has
+// no time of its own to go by. The prior is this machine's (≈15 ms at 240 motions); measured
+// iterations replace it at once.
+std::atomic<double> g_newton_ns_per_cube{1.0};
+
+Clock::duration newton_cost(int motions, Clock::duration last) {
+  const double cube = static_cast<double>(motions) * motions * motions;
+  const auto typical = std::chrono::nanoseconds(
+      static_cast<long long>(g_newton_ns_per_cube.load(std::memory_order_relaxed) * cube));
+  return std::max<Clock::duration>(typical, last);
+}
+
+void record_newton(int motions, Clock::duration took) {
+  if (motions < 16) return;  // too small for its cube to say anything
+  const double cube = static_cast<double>(motions) * motions * motions;
+  const double per_cube =
+      static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(took).count()) /
+      cube;
+  g_newton_ns_per_cube.store(per_cube, std::memory_order_relaxed);
+}
+
+}  // namespace
 
 Eigen::MatrixXd ManifoldSolver::columns(const Eigen::MatrixXd& m, const std::vector<int>& cols) {
   Eigen::MatrixXd out(m.rows(), static_cast<int>(cols.size()));
@@ -275,9 +306,11 @@ ManifoldSolver::Result ManifoldSolver::finish(const Point& cur,
 bool ManifoldSolver::close(Eigen::VectorXd& z0, int max_iterations) {
   Point cur = evaluate(z0.cwiseMax(lo_).cwiseMin(hi_));
   double mu = 1e-3;
+  Clock::duration last{};
   for (int it = 0; it < max_iterations; ++it) {
     if (cur.h.size() == 0 || cur.h.cwiseAbs().maxCoeff() < options_.projection_tolerance) break;
-    if (out_of_time()) return false;
+    if (no_time_for(last)) return false;
+    const auto began = Clock::now();
     const std::vector<int> free = off_bounds(cur);
     if (free.empty()) return false;
     const Eigen::MatrixXd JF = columns(cur.J, free);
@@ -301,6 +334,7 @@ bool ManifoldSolver::close(Eigen::VectorXd& z0, int max_iterations) {
       }
     }
     if (!moved) return false;
+    last = Clock::now() - began;
   }
   if (!project(cur)) return false;
   z0 = cur.z;
@@ -319,9 +353,11 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
   }
   double mu = 1e-4;
   int it = 0;
+  Clock::duration last{};
   for (; it < max_iterations; ++it) {
     if (it == 15 && cur.f > give_up) break;
-    if (out_of_time()) break;
+    if (no_time_for(last)) break;
+    const auto began = Clock::now();
     const Active act = active_set(cur);
     if (act.Z.cols() == 0) break;
     const Eigen::MatrixXd A = columns(cur.Jr, act.free) * act.Z;
@@ -372,6 +408,7 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
       }
     }
     if (!moved) break;
+    last = Clock::now() - began;
   }
   return finish(cur, it, max_iterations, out);
 }
@@ -380,7 +417,7 @@ ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
   Curvature c;
   const Active act = active_set(p);
   c.free = act.free;
-  if (act.Z.cols() == 0 || out_of_time()) return c;
+  if (act.Z.cols() == 0 || no_time_for(newton_cost(static_cast<int>(act.Z.cols()), {}))) return c;
   const Eigen::MatrixXd full = lagrangian_hessian(p, act);
   if (out_of_time()) return c;  // incomplete: no curvature is reported
   // With no rows kept Z is the identity (null_space): its products would cost n³ each.
@@ -415,17 +452,29 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
   }
   double radius = 0.2 * options_.max_step;
   int it = 0;
+  int motions = n_;  // free motions at the last iteration
+  Clock::duration last{};
+  std::optional<Clock::time_point> previous;
   for (; it < max_iterations; ++it) {
-    if (out_of_time()) break;
+    const auto began = Clock::now();
+    if (previous) {
+      last = began - *previous;
+      record_newton(motions, last);
+    }
+    previous = began;
+    if (no_time_for(newton_cost(motions, last))) break;
     const Active act = active_set(cur);
     if (act.Z.cols() == 0) break;
+    motions = static_cast<int>(act.Z.cols());
     const Eigen::VectorXd rg = act.Z.transpose() * rows(cur.g, act.free);
     const Eigen::MatrixXd full = lagrangian_hessian(cur, act);
     if (out_of_time()) break;
     // With no rows kept Z is the identity (null_space): its products would cost n³ each.
     Eigen::MatrixXd H = act.rows.empty() ? full : Eigen::MatrixXd(act.Z.transpose() * full * act.Z);
     H = 0.5 * (H + H.transpose());
+    if (out_of_time()) break;
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
+    if (out_of_time()) break;
     const Eigen::VectorXd& raw = eig.eigenvalues();
     // Eigenvectors come with an arbitrary sign; fix it (largest entry positive) so that an
     // escape from a balance point goes the same way whatever round-off chose.
@@ -458,6 +507,17 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
       }
       return q;
     };
+    // The step's length, from its coordinates in the (orthonormal) eigenbasis: the search
+    // for μ below asks it often, and building the step costs a matrix-vector product.
+    auto length_for = [&](double mu) {
+      double sum = 0;
+      for (int i = 0; i < lambda.size(); ++i) {
+        if (c[i] == 0) continue;
+        const double qi = c[i] / (lambda[i] + mu);
+        sum += qi * qi;
+      }
+      return std::sqrt(sum);
+    };
     // The trust-region subproblem: μ = 0 if H is positive there and the step fits; otherwise
     // the μ > max(0, -λ_min) that puts the step on the boundary.
     Eigen::VectorXd p;
@@ -471,10 +531,10 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
       const double floor_mu = std::max(0.0, -lambda_min);
       double lo_mu = floor_mu;
       double hi_mu = floor_mu + std::max(1e-12, c.norm() / radius);
-      while (step_for(hi_mu).norm() > radius) hi_mu = floor_mu + 2 * (hi_mu - floor_mu);
+      while (length_for(hi_mu) > radius) hi_mu = floor_mu + 2 * (hi_mu - floor_mu);
       for (int k = 0; k < 80; ++k) {
         const double mid = 0.5 * (lo_mu + hi_mu);
-        (step_for(mid).norm() > radius ? lo_mu : hi_mu) = mid;
+        (length_for(mid) > radius ? lo_mu : hi_mu) = mid;
       }
       p = step_for(hi_mu);
       // The hard case: no gradient along the most negative direction (a balance point), so

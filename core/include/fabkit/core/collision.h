@@ -9,6 +9,7 @@
 /// union of its pieces.
 
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <vector>
@@ -57,6 +58,26 @@ class Body {
   std::shared_ptr<const Pieces> pieces_;
   Vec3 min_ = Vec3::Zero();
   Vec3 max_ = Vec3::Zero();
+};
+
+/// A body its owner builds on first use and keeps (building one costs a convex shape per
+/// piece, and so does freeing it: a solve should not pay either for parts it was handed).
+/// Owners are copied and then edited, so a copy starts without a body and builds its own; a
+/// change of the number or the storage of the pieces builds it again. Safe to share between
+/// threads.
+class CachedBody {
+ public:
+  CachedBody() = default;
+  CachedBody(const CachedBody&) {}
+  CachedBody& operator=(const CachedBody&);
+  /// The body of `pieces` and `tags`, built on the first call.
+  Body get(std::span<const TriangleMesh> pieces, std::span<const int> tags) const;
+
+ private:
+  mutable std::mutex mutex_;
+  mutable std::optional<Body> body_;
+  mutable const TriangleMesh* built_from_ = nullptr;
+  mutable std::size_t built_count_ = 0;
 };
 
 /// Signed distance between piece `pa` of `a` at world pose `ta` and piece `pb` of `b` at `tb`.

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "fabkit/core/collision.h"
 #include "fabkit/core/ids.h"
 #include "fabkit/core/mesh.h"
 #include "fabkit/hacks/primitive.h"
@@ -42,6 +43,8 @@ struct Part {
   /// part known only by a mesh file: its contacts are not checked.
   std::vector<TriangleMesh> collision_pieces;
   std::vector<int> collision_tags;
+  /// `collision_pieces` as a collision body, built on first use (a copy builds its own).
+  collision::CachedBody collision_body;
   /// Values of a parametric part's parameters (empty for fixed parts).
   std::map<std::string, double> params;
 

@@ -15,8 +15,11 @@
 
 #include <Eigen/Dense>
 #include <chrono>
+#include <memory>
 #include <optional>
 #include <vector>
+
+#include "fabkit/core/stop_clock.h"
 
 namespace fabkit::solvers {
 
@@ -85,8 +88,10 @@ struct ManifoldSolverOptions {
   double max_step = 50;
   /// Escapes from stationary points that are not minima, before giving up.
   int max_escapes = 20;
-  /// Stop at this time (servers, time limits). None: no limit.
-  std::optional<std::chrono::steady_clock::time_point> deadline;
+  /// Stop by this deadline (servers, time limits), shared with the rest of the caller's work.
+  /// An iteration that would end past it (judged by what the last ones cost) is not started,
+  /// and the deadline is called. None: no limit.
+  std::shared_ptr<const StopClock> stop;
 };
 
 class ManifoldSolver {
@@ -172,6 +177,9 @@ class ManifoldSolver {
 
  private:
   bool out_of_time() const;
+  /// Whether an iteration costing about `cost` would end past the deadline (if so, it is
+  /// called: out_of_time() holds from then on).
+  bool no_time_for(std::chrono::steady_clock::duration cost) const;
   Point step(const Point& from, const Active& act, const Eigen::VectorXd& dF);
   Eigen::VectorXd multipliers(const Point& p,
                               const std::vector<int>& free,

@@ -1,0 +1,47 @@
+#pragma once
+/// A deadline shared by the steps of one piece of work, which a step may also call early.
+///
+/// Some steps cannot be interrupted once started (an eigendecomposition of a few hundred
+/// motions takes milliseconds), so checking the clock between them lets the work overrun by
+/// one such step. A step that knows roughly what it costs asks would_pass() first: if it would
+/// end past the deadline it is not started, and the deadline counts as reached from then on,
+/// for every later check of the same work — so the work stops once, before its deadline, and
+/// reports that it stopped rather than a result it did not finish.
+
+#include <atomic>
+#include <chrono>
+#include <optional>
+
+namespace fabkit {
+
+class StopClock {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  explicit StopClock(std::optional<Clock::time_point> at = std::nullopt) : at_(at) {}
+
+  /// Whether there is a deadline at all.
+  bool limited() const { return at_.has_value(); }
+  std::optional<Clock::time_point> at() const { return at_; }
+
+  /// Past the deadline, or called early by a step that could not have finished before it.
+  bool passed() const {
+    return at_ && (called_.load(std::memory_order_relaxed) || Clock::now() > *at_);
+  }
+
+  /// Whether work expected to take `cost` would end past the deadline. If it would, the
+  /// deadline is called now: passed() is true from here on.
+  bool would_pass(Clock::duration cost) const {
+    if (!at_) return false;
+    if (passed()) return true;
+    if (Clock::now() + cost <= *at_) return false;
+    called_.store(true, std::memory_order_relaxed);
+    return true;
+  }
+
+ private:
+  std::optional<Clock::time_point> at_;
+  mutable std::atomic<bool> called_{false};
+};
+
+}  // namespace fabkit

@@ -1,0 +1,174 @@
+// The manifold solver on problems whose answers are known in closed form (constrained
+// quadratics, a potential with a saddle), and its deadline: a called deadline stops it, and an
+// iteration it cannot finish in time is not started.
+#include "fabkit/core/solvers/manifold_solver.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <random>
+#include <thread>
+
+namespace fabkit::solvers {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// f = ½ zᵀAz − bᵀz subject to Σ z = 1.
+class ConstrainedQuadratic : public ManifoldProblem {
+ public:
+  ConstrainedQuadratic(Eigen::MatrixXd a, Eigen::VectorXd b) : a_(std::move(a)), b_(std::move(b)) {}
+  int variables() const override { return static_cast<int>(b_.size()); }
+  int objectives() const override { return 1; }
+  int equalities() const override { return 1; }
+  int inequalities() const override { return 0; }
+  void evaluate(const double* z, double* values, double* jacobian) override {
+    const Eigen::Map<const Eigen::VectorXd> x(z, variables());
+    const Eigen::VectorXd g = a_ * x - b_;
+    values[0] = 0.5 * x.dot(a_ * x) - b_.dot(x);
+    values[1] = x.sum() - 1;
+    for (int k = 0; k < variables(); ++k) {
+      jacobian[k] = g[k];
+      jacobian[variables() + k] = 1;
+    }
+  }
+
+ private:
+  Eigen::MatrixXd a_;
+  Eigen::VectorXd b_;
+};
+
+TEST(ManifoldSolver, RelaxReachesTheConstrainedMinimumOfAQuadratic) {
+  constexpr int n = 40;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd m(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) m(i, j) = normal(rng);
+  const Eigen::MatrixXd a = m * m.transpose() / n + Eigen::MatrixXd::Identity(n, n);
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) b[i] = 10 * normal(rng);
+  // The Lagrange conditions: A z − b = λ·1 and Σ z = 1.
+  Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(n + 1, n + 1);
+  kkt.topLeftCorner(n, n) = a;
+  kkt.topRightCorner(n, 1).setOnes();
+  kkt.bottomLeftCorner(1, n).setOnes();
+  Eigen::VectorXd rhs(n + 1);
+  rhs << b, 1;
+  const Eigen::VectorXd expected = kkt.fullPivLu().solve(rhs).head(n);
+
+  ConstrainedQuadratic problem(a, b);
+  const double inf = std::numeric_limits<double>::infinity();
+  ManifoldSolver solver(
+      problem, Eigen::VectorXd::Constant(n, -inf), Eigen::VectorXd::Constant(n, inf));
+  const ManifoldSolver::Result r = solver.relax(Eigen::VectorXd::Constant(n, 1.0 / n), 500);
+  ASSERT_TRUE(r.closed);
+  EXPECT_TRUE(r.converged);
+  EXPECT_FALSE(r.timed_out);
+  EXPECT_LT((r.z - expected).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_NEAR(r.z.sum(), 1.0, 1e-9);
+}
+
+// f = x² + (y² − 1)²: a saddle at the origin, minima at (0, ±1).
+class Saddle : public ManifoldProblem {
+ public:
+  int variables() const override { return 2; }
+  int objectives() const override { return 1; }
+  int equalities() const override { return 0; }
+  int inequalities() const override { return 0; }
+  void evaluate(const double* z, double* values, double* jacobian) override {
+    const double x = z[0], y = z[1];
+    values[0] = x * x + (y * y - 1) * (y * y - 1);
+    jacobian[0] = 2 * x;
+    jacobian[1] = 4 * y * (y * y - 1);
+  }
+};
+
+TEST(ManifoldSolver, RelaxLeavesASaddleForAMinimum) {
+  Saddle problem;
+  const double inf = std::numeric_limits<double>::infinity();
+  ManifoldSolver solver(problem, Eigen::Vector2d(-inf, -inf), Eigen::Vector2d(inf, inf));
+  const ManifoldSolver::Result r = solver.relax(Eigen::Vector2d(0.0, 0.0), 200);
+  EXPECT_NEAR(r.z[0], 0.0, 1e-6);
+  EXPECT_NEAR(std::abs(r.z[1]), 1.0, 1e-6) << "the balance point at y = 0 is not a rest state";
+  EXPECT_GE(r.escapes, 1);
+}
+
+// f = ½‖z − c‖², each evaluation taking `pause` (a model of an expensive step).
+class SlowBowl : public ManifoldProblem {
+ public:
+  explicit SlowBowl(std::chrono::milliseconds pause) : pause_(pause) {}
+  int variables() const override { return 2; }
+  int objectives() const override { return 1; }
+  int equalities() const override { return 0; }
+  int inequalities() const override { return 0; }
+  void evaluate(const double* z, double* values, double* jacobian) override {
+    std::this_thread::sleep_for(pause_);
+    const double dx = z[0] - 1000, dy = z[1] + 1000;
+    values[0] = 0.5 * (dx * dx + dy * dy);
+    jacobian[0] = dx;
+    jacobian[1] = dy;
+  }
+  bool lagrangian_hessian(const double*,
+                          const std::vector<int>&,
+                          const Eigen::VectorXd&,
+                          Eigen::MatrixXd& hessian) override {
+    hessian = Eigen::MatrixXd::Identity(2, 2);
+    return true;
+  }
+
+ private:
+  std::chrono::milliseconds pause_;
+};
+
+TEST(ManifoldSolver, ACalledDeadlineStopsItBeforeAnyIteration) {
+  SlowBowl problem(std::chrono::milliseconds(0));
+  auto stop = std::make_shared<StopClock>(Clock::now() + std::chrono::hours(1));
+  ASSERT_TRUE(stop->would_pass(std::chrono::hours(2)));  // another step called it
+  ManifoldSolverOptions o;
+  o.stop = stop;
+  const double inf = std::numeric_limits<double>::infinity();
+  ManifoldSolver solver(problem, Eigen::Vector2d(-inf, -inf), Eigen::Vector2d(inf, inf), o);
+  const ManifoldSolver::Result r = solver.relax(Eigen::Vector2d(0, 0), 100);
+  EXPECT_TRUE(r.timed_out);
+  EXPECT_EQ(r.iterations, 0);
+}
+
+TEST(ManifoldSolver, DoesNotStartAnIterationItCannotFinishBeforeTheDeadline) {
+  // An iteration costs one evaluation (the trial point), 10 ms; the start costs one too. With
+  // the deadline at 25 ms, the second iteration would end at about 30 ms: it is not started,
+  // and the deadline is called (the caller's later steps see it passed).
+  SlowBowl problem(std::chrono::milliseconds(10));
+  auto stop = std::make_shared<StopClock>(Clock::now() + std::chrono::milliseconds(25));
+  ManifoldSolverOptions o;
+  o.stop = stop;
+  o.max_step = 1;  // the bowl's bottom is ~1400 steps away: time, not convergence, ends it
+  const double inf = std::numeric_limits<double>::infinity();
+  ManifoldSolver solver(problem, Eigen::Vector2d(-inf, -inf), Eigen::Vector2d(inf, inf), o);
+  const ManifoldSolver::Result r = solver.relax(Eigen::Vector2d(0, 0), 100);
+  EXPECT_TRUE(r.timed_out);
+  EXPECT_TRUE(stop->passed());
+  // Sleeps last at least as long as asked: at most one iteration fits (none if the machine
+  // was slow to start).
+  EXPECT_LE(r.iterations, 1);
+}
+
+TEST(StopClock, ACallEndsItForEveryLaterCheck) {
+  const StopClock none;
+  EXPECT_FALSE(none.passed());
+  EXPECT_FALSE(none.would_pass(std::chrono::hours(24)));
+
+  const StopClock clock(Clock::now() + std::chrono::hours(1));
+  EXPECT_FALSE(clock.passed());
+  EXPECT_FALSE(clock.would_pass(std::chrono::minutes(1)));
+  EXPECT_FALSE(clock.passed()) << "asking does not call it";
+  EXPECT_TRUE(clock.would_pass(std::chrono::hours(2)));
+  EXPECT_TRUE(clock.passed());
+  EXPECT_TRUE(clock.would_pass(Clock::duration::zero()));
+
+  const StopClock past(Clock::now() - std::chrono::milliseconds(1));
+  EXPECT_TRUE(past.passed());
+}
+
+}  // namespace
+}  // namespace fabkit::solvers
