@@ -42,7 +42,7 @@ std::vector<double> settle_candidate(const Problem& p,
         AssemblySolver solver(q, vars, from, Objective::kEnergyHoldingTarget, o.deadline);
         return solver.relax(from, iterations_for(q, o));
       },
-      o.deadline);
+      o);
   if (!r.closed) return x;
   // Settling must not move the target (the projection holds it to round-off).
   const PoseError moved =

@@ -97,7 +97,7 @@ StepResult run_step2(Problem& p,
         }
         return r;
       },
-      o.deadline);
+      o);
 }
 
 StabilityReport check_stability(const Problem& p,

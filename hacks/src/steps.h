@@ -98,9 +98,6 @@ struct Overlap {
 };
 Overlap deepest_overlap(const Problem& p, const std::vector<double>& x);
 
-/// Runs `run(problem, start)` with the contact pairs near `x` watched; a part can move
-/// farther than the watch distance in one run, so while the result comes near pairs not yet
-/// watched, they are added and it runs again from there (rarely more than twice).
 /// Whether the solve's deadline has passed (or was called by a step that could not finish).
 inline bool past_deadline(const Problem& p, const SolveOptions& o) {
   if (p.stop) return p.stop->passed();
@@ -113,6 +110,9 @@ inline int iterations_for(const Problem& q, const SolveOptions& o) {
   return q.watched.empty() ? o.max_iterations : std::min(o.max_iterations, kContactIterations);
 }
 
+/// Runs `run(problem, start)` with the contact pairs near `x` watched; a part can move
+/// farther than the watch distance in one run, so while the result comes near pairs not yet
+/// watched, they are added and it runs again from there (rarely more than twice).
 template <class Run>
 StepResult with_contacts(Problem& p, const std::vector<double>& x, Run run) {
   watch_contacts(p, x);
@@ -127,18 +127,17 @@ StepResult with_contacts(Problem& p, const std::vector<double>& x, Run run) {
 /// Runs `run` without contact rows first (most results pass through nothing, and contact rows
 /// cost a distance query per pair and evaluation); only a result where parts pass through
 /// each other is run again from `x` with the contacts watched.
-/// Past `deadline` the plain run's result stands: the contact queries after it cost
+/// Past the deadline the plain run's result stands: the contact queries after it cost
 /// milliseconds on a long chain, and a result cut by the deadline is never called stable.
 template <class Run>
 StepResult avoiding_contacts(Problem& p,
                              const std::vector<double>& x,
                              Run run,
-                             std::optional<std::chrono::steady_clock::time_point> deadline) {
+                             const SolveOptions& o) {
   p.watched.clear();
   StepResult r = run(p, x);
   if (!p.contacts || !r.closed) return r;
-  if ((deadline && std::chrono::steady_clock::now() > *deadline) || (p.stop && p.stop->passed()))
-    return r;
+  if (past_deadline(p, o)) return r;
   const double plain = deepest_overlap(p, r.x).depth;
   if (plain <= kPenetrationToleranceMm) return r;
   Problem kept = p;

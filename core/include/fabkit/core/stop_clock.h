@@ -20,10 +20,6 @@ class StopClock {
 
   explicit StopClock(std::optional<Clock::time_point> at = std::nullopt) : at_(at) {}
 
-  /// Whether there is a deadline at all.
-  bool limited() const { return at_.has_value(); }
-  std::optional<Clock::time_point> at() const { return at_; }
-
   /// Past the deadline, or called early by a step that could not have finished before it.
   bool passed() const {
     return at_ && (called_.load(std::memory_order_relaxed) || Clock::now() > *at_);
