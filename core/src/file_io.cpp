@@ -11,6 +11,7 @@
 #include <random>
 #include <string>
 #include <system_error>
+#include <variant>
 
 namespace fabkit {
 
@@ -83,44 +84,69 @@ std::string random_suffix() {
 
 }  // namespace
 
-bool write_file_atomically(const fs::path& path, std::string_view bytes, Diagnostics& diags) {
+namespace {
+
+// Where bytes written to `path` really go: the path itself, or the target of a link that
+// stays in the same directory. Anything but a regular file there is refused (the reason is
+// returned) rather than replaced.
+std::variant<fs::path, std::string> output_destination(const fs::path& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) return path;
+  if (S_ISLNK(st.st_mode)) {
+    std::error_code ec;
+    const fs::path target = fs::weakly_canonical(path, ec);
+    const fs::path dir =
+        fs::weakly_canonical(path.parent_path().empty() ? "." : path.parent_path(), ec);
+    if (ec || target.parent_path() != dir) {
+      return std::string("it is a symbolic link that points out of its directory; remove it first");
+    }
+    if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+      return std::string("it links to something that is not a regular file");
+    }
+    return target;
+  }
+  if (S_ISDIR(st.st_mode)) return std::string("it is a directory");
+  if (!S_ISREG(st.st_mode))
+    return std::string("it is not a regular file (a FIFO, device or socket)");
+  return path;
+}
+
+void refuse_output(const fs::path& path, std::string_view why, int err, Diagnostics& diags) {
   const std::string name = path.string();
+  diags.error(codes::kWriteFailed,
+              fmt::format("cannot write '{}': {}{}{}",
+                          name,
+                          why,
+                          err != 0 ? ": " : "",
+                          err != 0 ? std::strerror(err) : ""),
+              SourceLocation{name, 0, 0});
+}
+
+}  // namespace
+
+bool outputs_writable(std::span<const fs::path> paths, Diagnostics& diags) {
+  bool ok = true;
+  for (const fs::path& path : paths) {
+    const auto where = output_destination(path);
+    if (const auto* why = std::get_if<std::string>(&where)) {
+      refuse_output(path, *why, 0, diags);
+      ok = false;
+    }
+  }
+  return ok;
+}
+
+bool write_file_atomically(const fs::path& path, std::string_view bytes, Diagnostics& diags) {
   fs::path tmp;
   auto fail = [&](std::string_view what, int err) {
     if (!tmp.empty()) ::unlink(tmp.c_str());
-    diags.error(codes::kWriteFailed,
-                fmt::format("cannot write '{}': {}{}{}",
-                            name,
-                            what,
-                            err != 0 ? ": " : "",
-                            err != 0 ? std::strerror(err) : ""),
-                SourceLocation{name, 0, 0});
+    refuse_output(path, what, err, diags);
     return false;
   };
 
-  // Where the bytes really go: the path itself, or the target of a link that stays in the
-  // same directory. Anything but a regular file there is refused rather than replaced.
-  fs::path destination = path;
-  struct stat st {};
-  if (::lstat(path.c_str(), &st) == 0) {
-    if (S_ISLNK(st.st_mode)) {
-      std::error_code ec;
-      const fs::path target = fs::weakly_canonical(path, ec);
-      const fs::path dir =
-          fs::weakly_canonical(path.parent_path().empty() ? "." : path.parent_path(), ec);
-      if (ec || target.parent_path() != dir) {
-        return fail("it is a symbolic link that points out of its directory; remove it first", 0);
-      }
-      destination = target;
-      if (::stat(destination.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-        return fail("it links to something that is not a regular file", 0);
-      }
-    } else if (S_ISDIR(st.st_mode)) {
-      return fail("it is a directory", 0);
-    } else if (!S_ISREG(st.st_mode)) {
-      return fail("it is not a regular file (a FIFO, device or socket)", 0);
-    }
-  }
+  auto where = output_destination(path);
+  if (const auto* why = std::get_if<std::string>(&where)) return fail(*why, 0);
+  const fs::path destination = std::get<fs::path>(std::move(where));
 
   // A fresh temporary beside the destination, created exclusively (never through a link).
   int fd = -1;

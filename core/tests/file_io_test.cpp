@@ -14,6 +14,7 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "fabkit/core/text.h"
 
@@ -139,6 +140,30 @@ TEST_F(FileIo, LinksAreWrittenThroughOnlyWithinTheirDirectory) {
   ASSERT_TRUE(write_file_atomically(dir_ / "out" / "latest.json", "new", e)) << e.format();
   EXPECT_TRUE(fs::is_symlink(dir_ / "out" / "latest.json"));
   EXPECT_EQ(slurp(dir_ / "out" / "report-v2.json"), "new");
+}
+
+TEST_F(FileIo, ASetOfOutputsIsCheckedBeforeAnyIsWritten) {
+  fs::create_directories(dir_ / "out");
+  fs::create_directories(dir_ / "elsewhere");
+  std::ofstream(dir_ / "elsewhere" / "victim") << "keep me";
+  fs::create_symlink(dir_ / "elsewhere" / "victim", dir_ / "out" / "result.json");
+  ASSERT_EQ(::mkfifo((dir_ / "out" / "scene.glb").c_str(), 0600), 0);
+  std::ofstream(dir_ / "out" / "model.stl") << "old";
+  const std::vector<fs::path> files{dir_ / "out" / "model.stl",    // a regular file: fine
+                                    dir_ / "out" / "result.json",  // a link out: refused
+                                    dir_ / "out" / "scene.glb",    // a FIFO: refused
+                                    dir_ / "out" / "new.obj"};     // absent: fine
+  Diagnostics d;
+  EXPECT_FALSE(outputs_writable(files, d));
+  EXPECT_EQ(d.size(), 2u) << d.format();
+  EXPECT_NE(d.format().find("result.json': it is a symbolic link"), std::string::npos)
+      << d.format();
+  EXPECT_NE(d.format().find("scene.glb': it is not a regular file"), std::string::npos)
+      << d.format();
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "new.obj"));  // asking writes nothing
+  EXPECT_EQ(slurp(dir_ / "out" / "model.stl"), "old");
+  Diagnostics e;
+  EXPECT_TRUE(outputs_writable(std::vector<fs::path>{files[0], files[3]}, e)) << e.format();
 }
 
 TEST_F(FileIo, AFailedWriteLeavesTheOldFileAndNoTemporary) {

@@ -269,6 +269,22 @@ BuildSummary build(const Design& design, const BuildOptions& options) {
     if (ok) s.files.push_back(p);
   };
   const std::vector<CutSheet> sheets = cut_sheets(s.analysis, s.nesting, sheet, design.labels);
+  {  // every destination checked before any is written: a refusal leaves no half-written set
+    std::vector<std::filesystem::path> files;
+    for (std::size_t k = 0; k < sheets.size(); ++k) {
+      const std::string stem = fmt::format("sheet-{}", k + 1);
+      if (options.svg) files.push_back(options.output_dir / (stem + ".svg"));
+      if (options.dxf) files.push_back(options.output_dir / (stem + ".dxf"));
+    }
+    if (options.stl) files.push_back(options.output_dir / "model.stl");
+    if (options.glb) files.push_back(options.output_dir / "scene.glb");
+    files.push_back(options.output_dir / "report.json");
+    if (!outputs_writable(files, io)) {
+      s.diagnostics.append(io);
+      s.termination = Termination::kWriteFailed;
+      return s;
+    }
+  }
   for (std::size_t k = 0; k < sheets.size(); ++k) {
     const std::string stem = fmt::format("sheet-{}", k + 1);
     if (options.svg)

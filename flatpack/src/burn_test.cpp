@@ -210,6 +210,8 @@ std::vector<std::filesystem::path> write_burn_test(const BurnTest& test,
                                                    Diagnostics& diags) {
   std::vector<std::filesystem::path> written;
   if (!make_output_directory(dir, diags)) return written;
+  const std::array<std::filesystem::path, 2> files{dir / "burn-test.svg", dir / "burn-test.dxf"};
+  if (!outputs_writable(files, diags)) return written;
   if (write_svg_sheet(dir / "burn-test.svg", test.sheet, diags))
     written.push_back(dir / "burn-test.svg");
   if (write_dxf(dir / "burn-test.dxf", for_dxf(test.sheet), diags))

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <fstream>
 #include <system_error>
 
@@ -183,17 +184,23 @@ bool export_solution(const Assembly& assembly,
                      Diagnostics& diags,
                      const ExportOptions& options) {
   if (!make_output_directory(directory, diags)) return false;
-  bool ok = write_file_atomically(
-      directory / "result.json", result_json(assembly, result, options.design_name), diags);
+  const std::array<std::filesystem::path, 5> files{directory / "result.json",
+                                                   directory / "scene.glb",
+                                                   directory / "preview.svg",
+                                                   directory / (options.basename + ".stl"),
+                                                   directory / (options.basename + ".obj")};
+  if (!outputs_writable(files, diags)) return false;  // none written rather than some
+  bool ok =
+      write_file_atomically(files[0], result_json(assembly, result, options.design_name), diags);
   // The pictures show what slips (red markers); the files to build from hold the parts only.
   PartSolidCache local;
   std::vector<SceneObject> scene = solution_scene(assembly, result);
   use_solids(assembly, options.solids ? *options.solids : local, scene, diags);
   const std::vector<SceneObject> parts(scene.begin(), scene.begin() + assembly.part_count());
-  ok = write_scene("glb", scene, directory / "scene.glb", diags) && ok;
-  ok = write_scene("svg", scene, directory / "preview.svg", diags) && ok;
-  ok = write_scene("stl", parts, directory / (options.basename + ".stl"), diags) && ok;
-  ok = write_scene("obj", parts, directory / (options.basename + ".obj"), diags) && ok;
+  ok = write_scene("glb", scene, files[1], diags) && ok;
+  ok = write_scene("svg", scene, files[2], diags) && ok;
+  ok = write_scene("stl", parts, files[3], diags) && ok;
+  ok = write_scene("obj", parts, files[4], diags) && ok;
   return ok;
 }
 

@@ -280,6 +280,22 @@ std::vector<std::filesystem::path> write_outputs(const Design& design,
     return ok;
   };
   const bool exact = summary.joints.size() == s.nodes.size() && !s.nodes.empty();
+  {  // every destination checked before any is written: a refusal leaves no half-written set
+    std::vector<std::filesystem::path> files;
+    if (exact) {
+      for (const JointSolid& j : summary.joints) files.push_back(directory / stl_name(s, j.node));
+      files.push_back(directory / "joints.3mf");
+    }
+    files.push_back(directory / "scene.glb");
+    if (summary.cut_plan) {
+      files.push_back(directory / "cut_plan.svg");
+      files.push_back(directory / "cut_list.csv");
+    }
+    files.push_back(directory / "assembly.json");
+    if (summary.tolerance_board) files.push_back(directory / "tolerance_board.stl");
+    files.push_back(directory / "report.json");
+    if (!outputs_writable(files, diags)) return written;
+  }
   if (exact) {
     std::vector<ThreeMfObject> plate;
     const std::vector<Mat4> slots = plate_layout(summary);

@@ -219,6 +219,29 @@ BuildSummary build(const ComposedModel& cm,
     out.message = "not built: the output directory cannot be created";
     return out;
   }
+  const BillOfMaterials& bom = *out.check.bom;
+  {  // every destination checked before any is written: a refusal leaves no half-written set
+    std::vector<std::filesystem::path> files{dir / "bom.csv", dir / "bom.json"};
+    for (const LumberCuts& c : bom.lumber)
+      files.push_back(dir / fmt::format("cuts_{}.svg", file_safe(c.item)));
+    for (const SheetCuts& c : bom.sheets) {
+      for (int s = 0; s < c.plan.sheet_count(); ++s) {
+        files.push_back(dir / fmt::format("sheet_{}_{}.svg", file_safe(c.item), s + 1));
+      }
+    }
+    if (options.write_meshes) {
+      for (const char* name : {"scene.glb", "stability.glb", "model.stl", "preview.svg"}) {
+        files.push_back(dir / name);
+      }
+    }
+    files.push_back(dir / "report.html");
+    files.push_back(dir / "model.json");
+    if (!outputs_writable(files, out.diagnostics)) {
+      out.termination = BuildTermination::kWriteFailed;
+      out.message = "not built: an output file cannot be written; nothing written";
+      return out;
+    }
+  }
   bool ok = true;
   auto write = [&](const std::string& name, const std::string& text) {
     const auto path = dir / name;
@@ -228,7 +251,6 @@ BuildSummary build(const ComposedModel& cm,
       ok = false;
     }
   };
-  const BillOfMaterials& bom = *out.check.bom;
   write("bom.csv", bom_csv(bom));
   write("bom.json", bom_json(bom));
   std::vector<std::pair<std::string, std::string>> drawings;

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -31,6 +32,11 @@ std::optional<std::string> read_input_file(const std::filesystem::path& path,
 bool write_file_atomically(const std::filesystem::path& path,
                            std::string_view bytes,
                            Diagnostics& diags);
+
+/// Whether write_file_atomically would accept every one of `paths` as a destination (each is
+/// a regular file, a link within its directory, or absent); an I/O diagnostic for each that
+/// is not. A writer of several files asks this first, so a refusal leaves no half-written set.
+bool outputs_writable(std::span<const std::filesystem::path> paths, Diagnostics& diags);
 
 /// Creates `directory` (and its parents) for outputs; an I/O diagnostic if it cannot.
 bool make_output_directory(const std::filesystem::path& directory, Diagnostics& diags);
