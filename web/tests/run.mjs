@@ -95,6 +95,10 @@ await context.addInitScript(() => {
 async function freshPage(u = url) {
   const page = await context.newPage();
   page.on('pageerror', (e) => console.log('  page error:', e.message));
+  // what a failure report needs: the browser's own errors and the server's refusals
+  page.on('console', (m) => { if (m.type() === 'error') console.log('  console error:', m.text()); });
+  page.on('response', (r) => { if (r.status() >= 400) console.log(`  ${r.status()} from ${r.request().method()} ${r.url()}`); });
+  page.on('requestfailed', (r) => console.log(`  request failed: ${r.method()} ${r.url()}: ${r.failure()?.errorText}`));
   await page.goto(u);
   await idle(page);
   return page;
@@ -114,7 +118,7 @@ try {
     assert(/alignment: flip/.test(yaml), 'flip missing:\n' + yaml);
     await click(page, 'solve');
     const verdict = await page.getByTestId('verdict').textContent();
-    assert(verdict === 'STABLE', `verdict ${verdict}`);
+    assert(verdict === 'STABLE', `verdict ${verdict}: ${await page.getByTestId('solve-result').textContent()}`);
     const err = await page.getByTestId('target-error').textContent();
     assert(err.includes(expectedError), `target error "${err}" vs API "${expectedError}"`);
     // Step 1 places the basket on its goal; under gravity it settles a little on the two hooks. The
@@ -216,7 +220,8 @@ try {
     await idle(page);
     assert((await page.getByTestId('flip-1').textContent()) === 'alignment: flipped', 'alignment not flipped');
     assert((await page.evaluate(() => window.__fabkit.designYaml())).match(/alignment: flip/g).length === 2, 'flip not in design');
-    const v = await page.getByTestId('verdict').textContent();
+    const v = await page.getByTestId('verdict').textContent({ timeout: 5000 })
+      .catch(async () => `none (${await page.getByTestId('solve-result').textContent()})`);
     assert(v === 'STABLE' || v === 'FALLS APART' || v === 'Infeasible', `verdict after flip: ${v}`);
     await click(page, 'undo');
   });
