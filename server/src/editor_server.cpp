@@ -63,7 +63,7 @@ void reply(httplib::Response& res, int status, const Json& body) {
   // With the charset, httplib does not compress the answer: browsers ask for brotli, which
   // httplib runs at its slowest quality (40–100 ms for a flat-pack model of 25 kB, more than the
   // model takes to compute); over loopback compression saves nothing.
-  res.set_content(dump_json(body), "application/json; charset=utf-8");
+  res.set_content(without_machine_paths(dump_json(body)), "application/json; charset=utf-8");
 }
 
 void reply(httplib::Response& res, const JobAnswer& answer) {
@@ -79,7 +79,8 @@ void reply_error(httplib::Response& res,
 }
 
 JobAnswer json_answer(int status, const Json& body) {
-  return {status, without_machine_paths(dump_json(body)), "application/json"};
+  // The charset keeps httplib from compressing it, as reply() does.
+  return {status, without_machine_paths(dump_json(body)), "application/json; charset=utf-8"};
 }
 
 JobAnswer error_answer(int status, const std::string& message, const Json& diagnostics) {
@@ -228,7 +229,16 @@ struct EditorServer::Impl {
 
   void add(const std::string& prefix, const ApiRoute& route) {
     const std::string pattern = prefix + route.path;
-    auto handler = placed(pattern, route);
+    // Whatever a kit's handler answered: no absolute path of this machine in a JSON answer.
+    // Done here, as the handler returns: httplib compresses the body and fixes its length
+    // before any later hook, and rewriting it then corrupted compressed answers.
+    auto handler = [inner = placed(pattern, route)](const httplib::Request& req,
+                                                    httplib::Response& res) {
+      inner(req, res);
+      if (res.get_header_value("Content-Type").rfind("application/json", 0) == 0) {
+        res.body = without_machine_paths(res.body);
+      }
+    };
     if (route.method == ApiRoute::Method::kGet) {
       http->Get(pattern, handler);
       return;
@@ -373,11 +383,9 @@ struct EditorServer::Impl {
           if (admit(req, res) == httplib::Server::HandlerResponse::Handled) return res.status;
           return 100;
         });
+    // Headers only: by now httplib has compressed the body and set its length (add() cleans
+    // JSON bodies of machine paths before that).
     http->set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
-      // Whatever a kit's handler answered: no absolute path of this machine in a JSON answer.
-      if (res.get_header_value("Content-Type").rfind("application/json", 0) == 0) {
-        res.body = without_machine_paths(res.body);
-      }
       res.set_header("X-Content-Type-Options", "nosniff");
       res.set_header("X-Frame-Options", "DENY");
       res.set_header("Referrer-Policy", "no-referrer");
