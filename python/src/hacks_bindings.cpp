@@ -160,7 +160,7 @@ PrimitiveRef to_ref(const py::object& o, const char* what) {
   if (py::isinstance<PrimitiveRef>(o)) return o.cast<PrimitiveRef>();
   if (py::isinstance<Part>(o)) {
     auto part = o.cast<std::shared_ptr<Part>>();
-    return PrimitiveRef(part, 0);
+    return PrimitiveRef(part, PrimitiveId{0});
   }
   throw py::type_error(fmt::format("{} takes a primitive such as part.hook1 (or a part), not {}",
                                    what,

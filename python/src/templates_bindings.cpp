@@ -179,11 +179,8 @@ void bind_templates(py::module_ m) {
 
   py::class_<PyModel>(m, "Model", "A working model composed from templates")
       .def(py::init([](const std::string& name, const PyDatabase* db) {
-             PyModel pm{db ? *db : bundled_db(), ComposedModel{}};
-             pm.composed.name = name;
-             pm.composed.model = WorkingModel("model");
-             pm.composed.readable = true;
-             return pm;
+             ComposedModel composed{.name = name, .model = WorkingModel("model"), .readable = true};
+             return PyModel{db ? *db : bundled_db(), std::move(composed), nullptr};
            }),
            py::arg("name") = "model",
            py::arg("database") = nullptr)
@@ -198,7 +195,8 @@ void bind_templates(py::module_ m) {
             CheckOptions o;
             o.deadline = deadline_from(time_limit);
             PyModel pm{db ? *db : bundled_db(),
-                       compose_model(*text, path.string(), (db ? *db : bundled_db()).get(), o)};
+                       compose_model(*text, path.string(), (db ? *db : bundled_db()).get(), o),
+                       nullptr};
             if (pm.composed.diagnostics.has_errors()) raise_diagnostics(pm.composed.diagnostics);
             return pm;
           },
@@ -266,9 +264,9 @@ void bind_templates(py::module_ m) {
       .def(
           "controls",
           [](PyModel& pm, const std::string& node) {
-            const Manipulator& m = pm.manip();
+            const Manipulator& manip = pm.manip();
             py::dict out;
-            for (const Control& c : m.controls(pm.node(node))) {
+            for (const Control& c : manip.controls(pm.node(node))) {
               py::dict x;
               x["value"] = c.value;
               x["hidden"] = c.hidden;
@@ -279,16 +277,18 @@ void bind_templates(py::module_ m) {
           py::arg("node") = "")
       .def("drag",
            [](PyModel& pm, const std::string& node, const std::string& control, double delta) {
-             const Manipulator& m = pm.manip();
-             const DragResult r = m.drag(m.control(pm.node(node), control_of(control)), delta);
+             const Manipulator& manip = pm.manip();
+             const DragResult r =
+                 manip.drag(manip.control(pm.node(node), control_of(control)), delta);
              if (r.diagnostics.has_errors()) raise_diagnostics(r.diagnostics);
              pm.t().q = r.q;
              return drag_dict(r);
            })
       .def("set",
            [](PyModel& pm, const std::string& node, const std::string& control, double value) {
-             const Manipulator& m = pm.manip();
-             const DragResult r = m.set(m.control(pm.node(node), control_of(control)), value);
+             const Manipulator& manip = pm.manip();
+             const DragResult r =
+                 manip.set(manip.control(pm.node(node), control_of(control)), value);
              if (r.diagnostics.has_errors()) raise_diagnostics(r.diagnostics);
              pm.t().q = r.q;
              return drag_dict(r);
