@@ -1,6 +1,7 @@
 // Tests that physics writes, not the code: answers that do not depend on what physics does not
 // care about (where the world is, which way round a rod is spun, the order of the connects,
 // which end of a symmetric chain is built first), and rest states statics predicts.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
@@ -314,6 +315,38 @@ TEST(Physics, AChainOfHooksHangsPlumb) {
       EXPECT_LT((com(i) - com(1)).head<2>().norm(), 0.5) << "hook " << i << r.summary();
       EXPECT_LT(com(i).z(), com(i - 1).z()) << "hook " << i;
     }
+  }
+}
+
+// A chain long enough to span two wall hooks is found to span them, and hangs from both with
+// its lowest link near the middle: 16 and 18 S-hooks (reaching about 680 and 760 mm) between
+// hooks 605.5 mm apart, where the closure search used to leave a gap of hundreds of mm
+// (issue 9, item 4). Not yet here: 15 hooks (reaching about 636 mm, 95 % taut), whose
+// closure is still not found.
+TEST(Physics, AChainLongEnoughToSpanTwoHooksSpansThem) {
+  for (int hooks : {16, 18}) {
+    SCOPED_TRACE(hooks);
+    std::string s =
+        "fabkit: hacks/1\nname: span\nenvironment:\n  - name: wall\n"
+        "    frame: {pos: [0, 0, 1000], rot: [0, 0, 0]}\n    primitives:\n"
+        "      hook1: {type: hook, arc_radius: 12.5, arc_angle: 120, thickness: 1.25, "
+        "frame: {pos: [15, -302.75, 0], rot: [30, 0, 90]}}\n"
+        "      hook2: {type: hook, arc_radius: 12.5, arc_angle: 120, thickness: 1.25, "
+        "frame: {pos: [15, 302.75, 0], rot: [30, 0, 90]}}\nparts:\n";
+    for (int i = 1; i <= hooks; ++i) s += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
+    s += "connections:\n  - connect: [s1.hook1, wall.hook1]\n";
+    for (int i = 2; i <= hooks; ++i)
+      s += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
+    s += fmt::format("  - connect: [s{}.hook2, wall.hook2]\n", hooks);
+    const Outcome o = solve_text(s);
+    EXPECT_TRUE(o.stable) << o.summary;
+    ASSERT_EQ(o.positions.size(), static_cast<std::size_t>(hooks + 1));
+    std::size_t lowest = 1;
+    for (std::size_t i = 1; i < o.positions.size(); ++i) {
+      if (o.positions[i].z() < o.positions[lowest].z()) lowest = i;
+      EXPECT_LT(o.positions[i].z(), 1000.0) << "hook " << i << " above the wall hooks";
+    }
+    EXPECT_LT(std::abs(o.positions[lowest].y()), 60.0) << o.summary;
   }
 }
 
