@@ -60,9 +60,6 @@ std::string without_machine_paths(std::string_view text) {
 void reply(httplib::Response& res, int status, const Json& body) {
   res.status = status;
   // Input echoed in messages may not be UTF-8: replace bad bytes rather than fail.
-  // With the charset, httplib does not compress the answer: browsers ask for brotli, which
-  // httplib runs at its slowest quality (40–100 ms for a flat-pack model of 25 kB, more than the
-  // model takes to compute); over loopback compression saves nothing.
   res.set_content(without_machine_paths(dump_json(body)), "application/json; charset=utf-8");
 }
 
@@ -79,7 +76,6 @@ void reply_error(httplib::Response& res,
 }
 
 JobAnswer json_answer(int status, const Json& body) {
-  // The charset keeps httplib from compressing it, as reply() does.
   return {status, without_machine_paths(dump_json(body)), "application/json; charset=utf-8"};
 }
 
@@ -230,8 +226,8 @@ struct EditorServer::Impl {
   void add(const std::string& prefix, const ApiRoute& route) {
     const std::string pattern = prefix + route.path;
     // Whatever a kit's handler answered: no absolute path of this machine in a JSON answer.
-    // Done here, as the handler returns: httplib compresses the body and fixes its length
-    // before any later hook, and rewriting it then corrupted compressed answers.
+    // Done here, as the handler returns: httplib fixes the body's length (and used to
+    // compress it) before any later hook, and a body rewritten there no longer matched them.
     auto handler = [inner = placed(pattern, route)](const httplib::Request& req,
                                                     httplib::Response& res) {
       inner(req, res);
@@ -281,6 +277,12 @@ struct EditorServer::Impl {
   // Who may ask: requests addressed to this server, POSTs with a design's media type from no
   // page or its own page. Runs before the body is read.
   httplib::Server::HandlerResponse admit(const httplib::Request& req, httplib::Response& res) {
+    // Nothing is compressed: over loopback it saves nothing, and httplib compresses with brotli
+    // at its slowest quality — 1.7 s for the editor's 920 kB script on every page load, 40–100
+    // ms for a 25 kB JSON answer. httplib decides from the request's Accept-Encoding, later
+    // and with no option to turn it off; the request is httplib's own non-const object, handed
+    // to this hook as const.
+    const_cast<httplib::Request&>(req).headers.erase("Accept-Encoding");
     auto refuse = [&](int status, const std::string& why) {
       GuardedHttpServer::close_after_response();  // its body, if any, is never read
       reply_error(res, status, why);
@@ -383,8 +385,8 @@ struct EditorServer::Impl {
           if (admit(req, res) == httplib::Server::HandlerResponse::Handled) return res.status;
           return 100;
         });
-    // Headers only: by now httplib has compressed the body and set its length (add() cleans
-    // JSON bodies of machine paths before that).
+    // Headers only: by now httplib has set the body's length (add() cleans JSON bodies of
+    // machine paths before that).
     http->set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
       res.set_header("X-Content-Type-Options", "nosniff");
       res.set_header("X-Frame-Options", "DENY");
