@@ -33,6 +33,11 @@ seeds("flatpack_design_fuzzer", sorted((ex / "flatpack").glob("*.yaml")))
 seeds("templates_model_fuzzer", sorted((ex / "templates").glob("*.yaml")) + sorted((src / "templates/data/designs").glob("*.yaml"))[:4])
 seeds("mesh_fuzzer", sorted((ex / "parts").glob("*.obj")))
 
+# Inputs that once crashed a harness (fuzz/regressions/<harness>/): every run replays them.
+for d in sorted((src / "fuzz" / "regressions").glob("*")):
+    if d.is_dir():
+        seeds(d.name, sorted(d.iterdir()))
+
 # A unit cube, 12 triangles, as ASCII and binary STL.
 v = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
 f = [(0, 2, 1), (0, 3, 2), (4, 5, 6), (4, 6, 7), (0, 1, 5), (0, 5, 4), (1, 2, 6), (1, 6, 5),

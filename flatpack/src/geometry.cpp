@@ -900,6 +900,9 @@ struct Planner {
     if (!d) return false;
     Planner inner{joints, pieces, sub_designs, group_count, {}, {}};
     inner.plan(std::set<int>(unit.begin(), unit.end()));
+    // A unit whose own pieces cannot come apart has no step to carry its direction (found by
+    // the fuzzer: the write went past the steps).
+    if (inner.removal.empty()) return false;
     const int group = ++group_count;
     for (AssemblyStep s : inner.removal) {
       if (s.group == 0) s.group = group;

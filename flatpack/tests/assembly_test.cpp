@@ -4,7 +4,9 @@
 // the physics written out independently of the planner.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <set>
+#include <sstream>
 
 #include "fabkit/flatpack/diagnostic_codes.h"
 #include "test_support.h"
@@ -85,6 +87,27 @@ TEST(Assembly, StoolAndBoxOrdersArePhysical) {
     ASSERT_FALSE(a.diagnostics.has_errors()) << a.diagnostics.format();
     expect_order_is_physical(a);
   }
+}
+
+// Found by the fuzzer (a reading desk with a trapezoid side 2 mm wide at its base): a
+// sub-assembly whose own pieces cannot come apart had no step to carry its direction, and the
+// planner wrote past its steps. Every step now names a real piece, once.
+TEST(Assembly, AUnitThatCannotComeApartIsNotTakenAsOne) {
+  std::ifstream in(std::string(FABKIT_SOURCE_DIR) +
+                   "/fuzz/regressions/flatpack_design_fuzzer/unit_that_cannot_come_apart.yaml");
+  ASSERT_TRUE(in) << "the regression input is missing";
+  std::stringstream text;
+  text << in.rdbuf();
+  const Analysis a = test::check_yaml(text.str());
+  ASSERT_TRUE(a.placed) << a.diagnostics.format();
+  std::set<int> seen;
+  for (const AssemblyStep& step : a.assembly) {
+    ASSERT_GE(step.piece, 0);
+    ASSERT_LT(step.piece, static_cast<int>(a.pieces.size()));
+    EXPECT_TRUE(seen.insert(step.piece).second) << name_of(a, step.piece) << " twice";
+    EXPECT_NEAR(step.direction.norm(), 1.0, 1e-9) << name_of(a, step.piece);
+  }
+  for (int p : a.not_insertable) EXPECT_LT(p, static_cast<int>(a.pieces.size()));
 }
 
 // Paper §4.6, Fig. 10(e, f): "the two connections between components 1 (or 3) and 5 (or 4) of

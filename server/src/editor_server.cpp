@@ -60,7 +60,8 @@ std::string without_machine_paths(std::string_view text) {
 void reply(httplib::Response& res, int status, const Json& body) {
   res.status = status;
   // Input echoed in messages may not be UTF-8: replace bad bytes rather than fail.
-  res.set_content(without_machine_paths(dump_json(body)), "application/json; charset=utf-8");
+  // (Machine paths are cut as every route's handler returns: EditorServer::Impl::add.)
+  res.set_content(dump_json(body), "application/json; charset=utf-8");
 }
 
 void reply(httplib::Response& res, const JobAnswer& answer) {
