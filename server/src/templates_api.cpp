@@ -475,10 +475,11 @@ KitApi templates_api(const ApiContext& context) {
            return;
          }
          const Template sub = n == t->root() ? *t : t->subtree(n);
-         reply(res, 200,
-                            {{"template", sub.name},
-                             {"box", box_json(sub.node_box(sub.root()))},
-                             {"parts", parts_json(sub, db.catalog(), {})}});
+         reply(res,
+               200,
+               {{"template", sub.name},
+                {"box", box_json(sub.node_box(sub.root()))},
+                {"parts", parts_json(sub, db.catalog(), {})}});
        }});
 
   api.routes.push_back(
@@ -515,7 +516,9 @@ KitApi templates_api(const ApiContext& context) {
          const Manipulator m(t, {}, &Api::db().catalog());
          json controls = json::array();
          for (const Control& c : m.controls(n)) controls.push_back(control_json(c));
-         reply(res, 200,
+         reply(
+             res,
+             200,
              {{"node", node_path(t, n)}, {"box", box_json(t.node_box(n))}, {"controls", controls}});
        }});
 
@@ -644,11 +647,12 @@ KitApi templates_api(const ApiContext& context) {
                        to_json(b.diagnostics));
            return;
          }
-         reply(res, 200,
-                            {{"message", b.message},
-                             {"termination", std::string(to_string(b.termination))},
-                             {"files", files},
-                             {"diagnostics", to_json(b.diagnostics)}});
+         reply(res,
+               200,
+               {{"message", b.message},
+                {"termination", std::string(to_string(b.termination))},
+                {"files", files},
+                {"diagnostics", to_json(b.diagnostics)}});
        }});
   return api;
 }
