@@ -269,16 +269,21 @@ BuildSummary build(const Design& design, const BuildOptions& options) {
     if (ok) s.files.push_back(p);
   };
   const std::vector<CutSheet> sheets = cut_sheets(s.analysis, s.nesting, sheet, design.labels);
+  const std::filesystem::path& dir = options.output_dir;
+  auto sheet_file = [&](std::size_t k, const char* ext) {
+    return dir / fmt::format("sheet-{}.{}", k + 1, ext);
+  };
+  const std::filesystem::path stl_file = dir / "model.stl", glb_file = dir / "scene.glb",
+                              report = dir / "report.json";
   {  // every destination checked before any is written: a refusal leaves no half-written set
     std::vector<std::filesystem::path> files;
     for (std::size_t k = 0; k < sheets.size(); ++k) {
-      const std::string stem = fmt::format("sheet-{}", k + 1);
-      if (options.svg) files.push_back(options.output_dir / (stem + ".svg"));
-      if (options.dxf) files.push_back(options.output_dir / (stem + ".dxf"));
+      if (options.svg) files.push_back(sheet_file(k, "svg"));
+      if (options.dxf) files.push_back(sheet_file(k, "dxf"));
     }
-    if (options.stl) files.push_back(options.output_dir / "model.stl");
-    if (options.glb) files.push_back(options.output_dir / "scene.glb");
-    files.push_back(options.output_dir / "report.json");
+    if (options.stl) files.push_back(stl_file);
+    if (options.glb) files.push_back(glb_file);
+    files.push_back(report);
     if (!outputs_writable(files, io)) {
       s.diagnostics.append(io);
       s.termination = Termination::kWriteFailed;
@@ -286,19 +291,16 @@ BuildSummary build(const Design& design, const BuildOptions& options) {
     }
   }
   for (std::size_t k = 0; k < sheets.size(); ++k) {
-    const std::string stem = fmt::format("sheet-{}", k + 1);
     if (options.svg)
-      wrote(options.output_dir / (stem + ".svg"),
-            write_svg_sheet(options.output_dir / (stem + ".svg"), sheets[k], io));
+      wrote(sheet_file(k, "svg"), write_svg_sheet(sheet_file(k, "svg"), sheets[k], io));
     if (options.dxf)
-      wrote(options.output_dir / (stem + ".dxf"),
-            write_dxf(options.output_dir / (stem + ".dxf"), for_dxf(sheets[k]), io));
+      wrote(sheet_file(k, "dxf"), write_dxf(sheet_file(k, "dxf"), for_dxf(sheets[k]), io));
   }
   const std::vector<TriangleMesh> meshes = piece_meshes(s.analysis);
   if (options.stl) {
     TriangleMesh all;
     for (const TriangleMesh& m : meshes) all.append(m);
-    wrote(options.output_dir / "model.stl", write_stl(all, options.output_dir / "model.stl", io));
+    wrote(stl_file, write_stl(all, stl_file, io));
   }
   if (options.glb) {
     std::vector<SceneObject> objects;
@@ -311,13 +313,11 @@ BuildSummary build(const Design& design, const BuildOptions& options) {
     }
     GlbOptions g;
     g.root_name = design.name.empty() ? "flatpack" : design.name;
-    wrote(options.output_dir / "scene.glb",
-          write_glb(objects, options.output_dir / "scene.glb", io, g));
+    wrote(glb_file, write_glb(objects, glb_file, io, g));
   }
   lap("write");
   s.diagnostics.append(io);
   if (io.has_errors()) s.termination = Termination::kWriteFailed;
-  const std::filesystem::path report = options.output_dir / "report.json";
   Diagnostics rio;
   if (write_file_atomically(report, dump_json(report_json(s), 2) + "\n", rio)) {
     s.files.push_back(report);

@@ -220,14 +220,17 @@ BuildSummary build(const ComposedModel& cm,
     return out;
   }
   const BillOfMaterials& bom = *out.check.bom;
+  auto cuts_file = [](const LumberCuts& c) {
+    return fmt::format("cuts_{}.svg", file_safe(c.item));
+  };
+  auto sheet_file = [](const SheetCuts& c, int s) {
+    return fmt::format("sheet_{}_{}.svg", file_safe(c.item), s + 1);
+  };
   {  // every destination checked before any is written: a refusal leaves no half-written set
     std::vector<std::filesystem::path> files{dir / "bom.csv", dir / "bom.json"};
-    for (const LumberCuts& c : bom.lumber)
-      files.push_back(dir / fmt::format("cuts_{}.svg", file_safe(c.item)));
+    for (const LumberCuts& c : bom.lumber) files.push_back(dir / cuts_file(c));
     for (const SheetCuts& c : bom.sheets) {
-      for (int s = 0; s < c.plan.sheet_count(); ++s) {
-        files.push_back(dir / fmt::format("sheet_{}_{}.svg", file_safe(c.item), s + 1));
-      }
+      for (int s = 0; s < c.plan.sheet_count(); ++s) files.push_back(dir / sheet_file(c, s));
     }
     if (options.write_meshes) {
       for (const char* name : {"scene.glb", "stability.glb", "model.stl", "preview.svg"}) {
@@ -259,7 +262,7 @@ BuildSummary build(const ComposedModel& cm,
     so.stock_width = std::max(10.0, c.width_mm);
     so.label_size = std::clamp(c.width_mm / 4, 3.0, 12.0);
     const std::string svg = cut_plan_svg(c.plan, c.pieces, c.stock, so);
-    write(fmt::format("cuts_{}.svg", file_safe(c.item)), svg);
+    write(cuts_file(c), svg);
     drawings.emplace_back(fmt::format("{}: {} ({} mm stock, {:g} mm kerf)",
                                       c.item,
                                       c.plan.summary,
@@ -270,7 +273,7 @@ BuildSummary build(const ComposedModel& cm,
   for (const SheetCuts& c : bom.sheets) {
     for (int s = 0; s < c.plan.sheet_count(); ++s) {
       const std::string svg = sheet_plan_svg(c.plan, s, c.pieces, c.sheet_specs[s]);
-      write(fmt::format("sheet_{}_{}.svg", file_safe(c.item), s + 1), svg);
+      write(sheet_file(c, s), svg);
       drawings.emplace_back(fmt::format("{}: sheet {} of {} ({:g} x {:g} mm, {:g} mm kerf)",
                                         c.item,
                                         s + 1,

@@ -95,10 +95,16 @@ await context.addInitScript(() => {
 async function freshPage(u = url) {
   const page = await context.newPage();
   page.on('pageerror', (e) => console.log('  page error:', e.message));
-  // what a failure report needs: the browser's own errors and the server's refusals
-  page.on('console', (m) => { if (m.type() === 'error') console.log('  console error:', m.text()); });
-  page.on('response', (r) => { if (r.status() >= 400) console.log(`  ${r.status()} from ${r.request().method()} ${r.url()}`); });
-  page.on('requestfailed', (r) => console.log(`  request failed: ${r.method()} ${r.url()}: ${r.failure()?.errorText}`));
+  // What a failure report needs: server errors, requests that failed on the way (not those
+  // the editor cancels) and the browser's own errors (not the 4xx answers tests ask for).
+  page.on('console', (m) => {
+    if (m.type() === 'error' && !/status of 4\d\d/.test(m.text())) console.log('  console error:', m.text());
+  });
+  page.on('response', (r) => { if (r.status() >= 500) console.log(`  ${r.status()} from ${r.request().method()} ${r.url()}`); });
+  page.on('requestfailed', (r) => {
+    const why = r.failure()?.errorText ?? '';
+    if (why !== 'net::ERR_ABORTED') console.log(`  request failed: ${r.method()} ${r.url()}: ${why}`);
+  });
   await page.goto(u);
   await idle(page);
   return page;
