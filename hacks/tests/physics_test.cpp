@@ -545,10 +545,16 @@ TEST(Physics, AMirroredDesignRestsAsTheMirrorImage) {
   }
 }
 
-// A mirror-symmetric design rests symmetric: a curtain rod hung from two S-hooks on a level rod
-// (the plane between the hooks is a mirror of the design) hangs level, both hooks plumb, even
-// though the whole can slide along the rod at no cost.
-TEST(Physics, ABarHungFromTwoHooksHangsLevel) {
+// A curtain rod threaded through two S-hooks on a level rail is not at rest in the model: a
+// rod slides through a hook without friction (as in the paper, where sliding off an open end
+// is how a hack falls apart). Level, the slide costs nothing, but a small tilt, which the hooks
+// allow by swinging, lets the rod slide towards its low end, and the slope along the slide
+// grows with the tilt: with s the slide and θ the tilt, the potential is a·θ² + m·g·s·sin θ near
+// the level pose, whose Hessian [[2a, m·g], [m·g, 0]] has a negative eigenvalue for every
+// stiffness a of the hooks' swing. The level balance is a saddle, and the rod slides out of
+// the hooks. (A real rod is held by friction in the hooks; fabkit does not model it.) So it is
+// never reported stable, and whatever is said to slip is the rod sliding through a hook.
+TEST(Physics, ABarThroughTwoHooksSlidesOutOfThem) {
   const std::string yaml =
       "fabkit: hacks/1\nname: bar on two hooks\nenvironment:\n"
       "  - {name: rail, primitives: {rod: {type: rod, radius: 6, length: 900}}, "
@@ -560,31 +566,15 @@ TEST(Physics, ABarHungFromTwoHooksHangsLevel) {
   const Design d = load_text(yaml);
   ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
   const SolveResult r = solve(d.assembly);
-  // Not yet: the closure verification hangs both hooks at one spot, and the relaxation from
-  // there stalls (slope 0.49, a balance point) instead of spreading them: reported as not at
-  // rest, which is true. Whenever it is reported stable, it must be level.
-  if (!r.stable) {
-    EXPECT_NE(r.message.find("did not converge"), std::string::npos) << r.summary();
-    return;
+  EXPECT_FALSE(r.stable) << r.summary();
+  EXPECT_FALSE(r.message.empty()) << r.summary();
+  for (const Slip& slip : r.slips) {
+    EXPECT_NE(slip.message.find("of bar.rod"), std::string::npos) << r.summary();
   }
-  const std::vector<Mat4> frames = d.assembly.part_frames(r.parameters);
-  std::map<std::string, Mat4> at;
-  for (int i = 0; i < d.assembly.part_count(); ++i) {
-    at[d.assembly.label(PartId{i})] = frames[static_cast<std::size_t>(i)];
-  }
-  // The bar's axis (its rod primitive's) is level.
-  const Part& bar = *d.assembly.node(PartId{3}).part;
-  ASSERT_EQ(d.assembly.label(PartId{3}), "bar");
-  const Vec3 axis = at["bar"].topLeftCorner<3, 3>() *
-                    bar.primitive(PrimitiveId{0}).frame.matrix().topLeftCorner<3, 3>() *
-                    Vec3::UnitZ();
-  EXPECT_LT(std::abs(axis.z()), 1e-3) << r.summary();
-  // Both hooks at the same height, and the bar's centre of mass midway between them.
-  EXPECT_NEAR(at["s1"](2, 3), at["s2"](2, 3), 0.5) << r.summary();
-  const Vec3 com =
-      at["bar"].topLeftCorner<3, 3>() * bar.center_of_mass + at["bar"].topRightCorner<3, 1>();
-  const double mid = 0.5 * (at["s1"](0, 3) + at["s2"](0, 3));
-  EXPECT_NEAR(com.x(), mid, 1.0) << r.summary();
+  // Not yet: the relaxation with contacts does not always carry the slide to the rod's end
+  // within its iterations (the hooks start next to each other and the contact rows slow it);
+  // it is then reported as not at rest, or as sliding off with the hooks still inside each
+  // other, never as stable (docs/hacks.md).
 }
 
 }  // namespace
