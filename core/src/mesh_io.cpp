@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "fabkit/core/file_io.h"
+#include "fabkit/core/text.h"
 #include "mesh_text.h"
 
 namespace fabkit {
@@ -13,7 +14,7 @@ constexpr std::string_view kSupported = ".obj, .stl";
 
 std::optional<TriangleMesh> read_mesh(const std::filesystem::path& path, Diagnostics& diags) {
   const std::string name = path.string();
-  const std::string ext = mesh_detail::lower(path.extension().string());
+  const std::string ext = ascii_lower(path.extension().string());
   if (ext != ".obj" && ext != ".stl") {
     diags.error(codes::kUnreadableFile,
                 fmt::format("cannot read mesh '{}': unsupported extension '{}' (supported: {})",

@@ -15,15 +15,9 @@
 
 #include "fabkit/core/diagnostics.h"
 #include "fabkit/core/mesh.h"
+#include "fabkit/core/text.h"
 
 namespace fabkit::mesh_detail {
-
-inline std::string lower(std::string s) {
-  for (char& c : s) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
-  return s;
-}
 
 inline bool is_space(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';

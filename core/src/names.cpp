@@ -3,16 +3,10 @@
 #include <algorithm>
 #include <cctype>
 
+#include "fabkit/core/text.h"
+
 namespace fabkit {
 namespace {
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) {
-    return static_cast<char>(std::tolower(c));
-  });
-  return out;
-}
 
 // Optimal-string-alignment distance: insertions, deletions, substitutions and adjacent
 // transpositions ("Mgu" -> "Mug") each cost 1.
@@ -37,7 +31,7 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 }  // namespace
 
 std::string closest_name(std::string_view name, const std::vector<std::string>& candidates) {
-  const std::string l = lower(name);
+  const std::string l = ascii_lower(name);
   const std::size_t limit = std::clamp<std::size_t>(l.size() / 3, 1, 3);
   std::string best;
   std::size_t best_d = limit + 1;
@@ -46,7 +40,7 @@ std::string closest_name(std::string_view name, const std::vector<std::string>& 
     // them also keeps a huge typed name from costing len × len work.
     const std::size_t gap = l.size() > c.size() ? l.size() - c.size() : c.size() - l.size();
     if (gap > limit) continue;
-    const std::size_t dist = edit_distance(l, lower(c));
+    const std::size_t dist = edit_distance(l, ascii_lower(c));
     if (dist < best_d && dist < std::max<std::size_t>(l.size(), 1)) {
       best = c;
       best_d = dist;

@@ -157,7 +157,7 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
     last_line = number;
     const auto tokens = tokenize(line);
     if (tokens.empty()) return true;
-    const std::string keyword = lower(std::string(tokens[0].text));
+    const std::string keyword = ascii_lower(tokens[0].text);
     auto unexpected = [&] {
       return fail(codes::kMalformedInput,
                   fmt::format("unexpected '{}'", excerpt(tokens[0].text, 40)),
@@ -175,7 +175,7 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
           return true;
         }
         if (keyword != "facet") return unexpected();
-        if (tokens.size() < 2 || lower(std::string(tokens[1].text)) != "normal") {
+        if (tokens.size() < 2 || ascii_lower(tokens[1].text) != "normal") {
           return fail(
               codes::kMalformedInput, "expected 'facet normal nx ny nz'", number, tokens[0].column);
         }
@@ -183,8 +183,7 @@ std::optional<TriangleMesh> parse_stl_ascii(std::string_view text,
         state = State::kInFacet;
         return true;
       case State::kInFacet:
-        if (keyword != "outer" || tokens.size() != 2 ||
-            lower(std::string(tokens[1].text)) != "loop") {
+        if (keyword != "outer" || tokens.size() != 2 || ascii_lower(tokens[1].text) != "loop") {
           return fail(codes::kMalformedInput, "expected 'outer loop'", number, tokens[0].column);
         }
         loop.clear();

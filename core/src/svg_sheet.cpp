@@ -3,34 +3,10 @@
 #include <fmt/format.h>
 
 #include "fabkit/core/file_io.h"
+#include "fabkit/core/text.h"
 
 namespace fabkit {
-namespace {
-
-std::string xml_escape(std::string_view text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 void CutSheet::add_cut(const Polygon2d& polygon) {
   outlines.push_back({polygon.outer, SheetLayer::kCut});

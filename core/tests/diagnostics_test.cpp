@@ -71,7 +71,7 @@ TEST(Diagnostics, MessagesAreMadeValidUtf8WhereTheyAreAdded) {
            "YAML syntax error: unknown escape character: \xff",
            SourceLocation{"bad\xc3.yaml", 3, 4});
   ds.warning(codes::kUnknownName, "unknown control 'si\xed\xa0\x80ze'");
-  ds.add(Diagnostic{Severity::kNote, codes::kInvalidValue, "caf\xc3\xa9 \x80"});
+  ds.add(Diagnostic{Severity::kNote, codes::kInvalidValue, "caf\xc3\xa9 \x80", {}});
   ASSERT_EQ(ds.size(), 3u);
   EXPECT_EQ(ds.items()[0].message, "YAML syntax error: unknown escape character: \uFFFD");
   EXPECT_EQ(ds.items()[0].where.file, "bad\uFFFD.yaml");

@@ -221,5 +221,19 @@ TEST(Text, Utf8ValidationAndExcerpts) {
   EXPECT_EQ(excerpt("line\nbreak\x01"), "line?break?");
 }
 
+TEST(Text, CaseBlindNamesIdentifiersAndXmlText) {
+  EXPECT_EQ(ascii_lower("DoubleHook_2"), "doublehook_2");
+  EXPECT_EQ(ascii_lower("GRÜN"), "grÜn");  // only ASCII letters change; UTF-8 is kept intact
+  EXPECT_TRUE(is_identifier("hook_1"));
+  EXPECT_TRUE(is_identifier("_x"));
+  EXPECT_FALSE(is_identifier(""));
+  EXPECT_FALSE(is_identifier("1hook"));
+  EXPECT_FALSE(is_identifier("hook-1"));
+  EXPECT_FALSE(is_identifier("h\xc3\xa9"));  // é: identifiers are ASCII
+  EXPECT_EQ(xml_escape("a<b & \"c\">"), "a&lt;b &amp; &quot;c&quot;&gt;");
+  // XML 1.0 forbids the other control characters, and a label is one line: both are dropped.
+  EXPECT_EQ(xml_escape("x\x01y\tz\x1f"), "xy\tz");
+}
+
 }  // namespace
 }  // namespace fabkit

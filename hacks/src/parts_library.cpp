@@ -22,14 +22,6 @@
 namespace fabkit::hacks {
 namespace {
 
-std::string lower(std::string_view s) {
-  std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) {
-    return static_cast<char>(std::tolower(c));
-  });
-  return out;
-}
-
 std::string join(const std::vector<std::string>& items, std::string_view sep = ", ") {
   std::string out;
   for (const std::string& s : items) {
@@ -37,12 +29,6 @@ std::string join(const std::vector<std::string>& items, std::string_view sep = "
     out += s;
   }
   return out;
-}
-
-bool is_identifier(std::string_view s) {
-  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-  return std::all_of(
-      s.begin(), s.end(), [](unsigned char c) { return std::isalnum(c) || c == '_'; });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -117,7 +103,7 @@ class PartFileReader {
             fmt::format(
                 "part name '{}' is already used by the library part {}", *name, existing->name),
             where);
-      } else if (!names_.insert(lower(*name)).second) {
+      } else if (!names_.insert(ascii_lower(*name)).second) {
         in_.error(codes::kDuplicateName,
                   fmt::format("part '{}' is defined twice in this file", *name),
                   where);
@@ -131,7 +117,7 @@ class PartFileReader {
           auto name = in_.string(a, "alias", 128);
           if (!name) continue;
           if (!is_identifier(*name) || library_.find(*name) ||
-              !names_.insert(lower(*name)).second) {
+              !names_.insert(ascii_lower(*name)).second) {
             in_.error(codes::kDuplicateName,
                       fmt::format(
                           "alias '{}' of part {} is not a new identifier", excerpt(*name, 40), who),
@@ -152,7 +138,7 @@ class PartFileReader {
                                 PartCategory::kHack,
                                 PartCategory::kBoth,
                                 PartCategory::kOther}) {
-          if (lower(*c) == to_string(pc)) {
+          if (ascii_lower(*c) == to_string(pc)) {
             part.category = pc;
             found = true;
           }
@@ -315,11 +301,11 @@ const PartGenerator* PartsLibrary::find(std::string_view name) const {
       if (a == name) return &g;
     }
   }
-  const std::string l = lower(name);
+  const std::string l = ascii_lower(name);
   for (const PartGenerator& g : generators_) {
-    if (lower(g.name) == l) return &g;
+    if (ascii_lower(g.name) == l) return &g;
     for (const std::string& a : g.aliases) {
-      if (lower(a) == l) return &g;
+      if (ascii_lower(a) == l) return &g;
     }
   }
   return nullptr;

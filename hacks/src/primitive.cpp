@@ -6,18 +6,11 @@
 #include <cctype>
 #include <cmath>
 
+#include "fabkit/core/text.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 
 namespace fabkit::hacks {
 namespace {
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) {
-    return static_cast<char>(std::tolower(c));
-  });
-  return out;
-}
 
 // Largest size we accept anywhere: 100 m. Anything bigger is a unit mistake.
 constexpr double kMaxSizeMm = 1e5;
@@ -47,7 +40,7 @@ std::string_view to_string(PrimitiveType t) {
 }
 
 std::optional<PrimitiveType> primitive_type_from_string(std::string_view s) {
-  const std::string l = lower(s);
+  const std::string l = ascii_lower(s);
   if (l == "rod") return PrimitiveType::kRod;
   if (l == "hook") return PrimitiveType::kHook;
   if (l == "ring" || l == "hole") return PrimitiveType::kRing;

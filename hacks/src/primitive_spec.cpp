@@ -70,12 +70,6 @@ std::string join(const std::vector<std::string_view>& items) {
   return out;
 }
 
-bool is_identifier(std::string_view s) {
-  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-  return std::all_of(
-      s.begin(), s.end(), [](unsigned char c) { return std::isalnum(c) || c == '_'; });
-}
-
 }  // namespace
 
 std::vector<std::string_view> primitive_spec_keys(PrimitiveType t) {

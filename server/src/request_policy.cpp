@@ -11,12 +11,6 @@
 namespace fabkit::server {
 namespace {
 
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
@@ -39,7 +33,7 @@ bool is_wildcard(const std::string& host) {
 
 // "[::1]" → "::1"; lower case.
 std::string normalized(std::string_view host) {
-  std::string h = lower(trim(host));
+  std::string h = ascii_lower(trim(host));
   if (h.size() >= 2 && h.front() == '[' && h.back() == ']') h = h.substr(1, h.size() - 2);
   return h;
 }
@@ -58,7 +52,7 @@ std::optional<Authority> parse_authority(std::string_view text) {
   if (text.front() == '[') {
     const auto close = text.find(']');
     if (close == std::string_view::npos) return std::nullopt;
-    a.host = lower(text.substr(1, close - 1));
+    a.host = ascii_lower(text.substr(1, close - 1));
     if (!is_ipv6(a.host)) return std::nullopt;
     const std::string_view rest = text.substr(close + 1);
     if (!rest.empty()) {
@@ -74,7 +68,7 @@ std::optional<Authority> parse_authority(std::string_view text) {
       text = text.substr(0, colon);
       has_port = true;
     }
-    a.host = lower(text);
+    a.host = ascii_lower(text);
     for (char c : a.host) {
       if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_')) {
         return std::nullopt;
@@ -144,7 +138,7 @@ std::optional<std::string> refuse_origin(const HostPolicy& policy, std::string_v
   origin = trim(origin);
   if (origin.empty()) return std::nullopt;
   constexpr std::string_view kScheme = "http://";
-  if (lower(origin.substr(0, kScheme.size())) == kScheme) {
+  if (ascii_lower(origin.substr(0, kScheme.size())) == kScheme) {
     const std::string_view authority = origin.substr(kScheme.size());
     if (authority.find('/') == std::string_view::npos && !refuse_host(policy, authority)) {
       return std::nullopt;
@@ -157,7 +151,7 @@ std::optional<std::string> refuse_origin(const HostPolicy& policy, std::string_v
 }
 
 bool is_design_media_type(std::string_view content_type) {
-  const std::string type = lower(trim(content_type.substr(0, content_type.find(';'))));
+  const std::string type = ascii_lower(trim(content_type.substr(0, content_type.find(';'))));
   return type == "application/yaml" || type == "application/x-yaml" || type == "text/yaml" ||
          type == "text/x-yaml" || type == "application/json";
 }

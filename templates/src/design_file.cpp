@@ -172,8 +172,8 @@ std::optional<SourceDesign> read_source_design(std::string_view yaml,
     if (p["repeat"]) {
       const YAML::Node r = p["repeat"];
       in.check_keys(r, {"count", "step"}, "repeat");
-      const auto count =
-          r["count"] ? in.numbers(r["count"], "repeat count", 3, {1, 500}) : std::nullopt;
+      const auto count = r["count"] ? in.numbers(r["count"], "repeat count", 3, {1, 500, "", false})
+                                    : std::nullopt;
       const auto step = r["step"] ? in.vec3(r["step"], "repeat step", kCoordinate) : std::nullopt;
       if (!count || !step) {
         if (!r["count"] || !r["step"])
@@ -263,7 +263,7 @@ std::optional<SourceDesign> read_source_design(std::string_view yaml,
       if (a["axis"]) art.axis = axis_of(in, a["axis"], "axis", &art.direction).value_or(2);
       if (a["pivot"]) art.pivot = in.vec3(a["pivot"], "pivot", kCoordinate).value_or(Vec3::Zero());
       if (a["limits"]) {
-        const auto l = in.numbers(a["limits"], "limits", 2, {-1e5, 1e5});
+        const auto l = in.numbers(a["limits"], "limits", 2, {-1e5, 1e5, "", false});
         if (l) {
           art.lower = (*l)[0];
           art.upper = (*l)[1];

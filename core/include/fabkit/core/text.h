@@ -20,4 +20,15 @@ std::string to_valid_utf8(std::string_view s);
 /// 1 MB error message.
 std::string excerpt(std::string_view s, std::size_t max_chars = 60);
 
+/// `s` with the ASCII letters A–Z made lower case (names compare case-blind, whatever the
+/// locale; other bytes, UTF-8 included, are kept).
+std::string ascii_lower(std::string_view s);
+
+/// Whether `s` is an identifier: a letter or '_' first, then letters, digits and '_'.
+bool is_identifier(std::string_view s);
+
+/// `s` as one line of XML 1.0 text or an attribute value: & < > " escaped, and every control
+/// character but tab dropped (XML forbids most of them; a label is one line).
+std::string xml_escape(std::string_view s);
+
 }  // namespace fabkit
