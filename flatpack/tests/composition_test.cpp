@@ -14,13 +14,13 @@
 namespace fabkit::flatpack {
 namespace {
 
-const std::filesystem::path kExamples =
+const std::filesystem::path kExampleDir =
     std::filesystem::path(FABKIT_SOURCE_DIR) / "examples" / "flatpack";
 
 // A design text that may use the bundled examples as components.
 Analysis check_with_examples(const std::string& yaml, Diagnostics* read = nullptr) {
   Diagnostics d;
-  const Design design = load_design_text(yaml, "composite.yaml", d, kExamples);
+  const Design design = load_design_text(yaml, "composite.yaml", d, kExampleDir);
   if (read) *read = d;
   if (d.has_errors()) {
     Analysis a;

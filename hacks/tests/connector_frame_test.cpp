@@ -44,7 +44,7 @@ void check(const Vector& v) {
   }
 }
 
-PrimitiveShape rod(double r, double l) {
+PrimitiveShape rod_shape_of(double r, double l) {
   PrimitiveShape s;
   s.radius = r;
   s.length = l;
@@ -67,7 +67,7 @@ PrimitiveShape tube(double ri, double th, double l) {
 
 TEST(ConnectorFrame, RodMatchesReference) {
   check({"Rod",
-         make(PrimitiveType::kRod, rod(5, 100)),
+         make(PrimitiveType::kRod, rod_shape_of(5, 100)),
          {0.3, 70},
          {260, 20, 30},
          {{0.813798, -0.204874, -0.543838, -8.775294},
@@ -77,7 +77,7 @@ TEST(ConnectorFrame, RodMatchesReference) {
 
 TEST(ConnectorFrame, RodCenterlineMatchesReference) {
   check({"RodCtl",
-         make(PrimitiveType::kRod, rod(5, 100), false, true),
+         make(PrimitiveType::kRod, rod_shape_of(5, 100), false, true),
          {0.3},
          {280, 20, 30},
          {{0.813798, -0.378522, -0.44097, -6.570446},

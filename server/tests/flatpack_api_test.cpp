@@ -20,7 +20,7 @@ namespace {
 
 using nlohmann::json;
 
-std::string read_example(const std::string& name) {
+std::string read_flatpack_example(const std::string& name) {
   return testing::read_source_file("examples/flatpack/" + name + ".yaml");
 }
 
@@ -49,7 +49,7 @@ TEST_F(FlatpackApiTest, KitsListFlatpackAndTheRegistryHasEveryComponentType) {
 // The simple table (paper Fig. 11(g)): five pieces, four finger–hole joints from its four
 // connections, one sheet; every component's edges in world coordinates.
 TEST_F(FlatpackApiTest, AssembleTheSimpleTable) {
-  const auto r = post("/api/flatpack/assemble", read_example("simple_table"));
+  const auto r = post("/api/flatpack/assemble", read_flatpack_example("simple_table"));
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 200) << r->body;
   const json a = json::parse(r->body);
@@ -128,16 +128,16 @@ TEST_F(FlatpackApiTest, BadDesignsAndUsesAreRefusedWithTheReason) {
   EXPECT_NE(a["diagnostics"][0]["message"].get<std::string>().find("'Rectangle'"),
             std::string::npos);
   // A posted design may not read other files.
-  r = post("/api/flatpack/assemble", read_example("bookshelf"));
+  r = post("/api/flatpack/assemble", read_flatpack_example("bookshelf"));
   ASSERT_EQ(r->status, 400) << r->body;
   EXPECT_NE(r->body.find("uses"), std::string::npos) << r->body;
-  r = post("/api/flatpack/build?file=../../etc/passwd", read_example("bookend"));
+  r = post("/api/flatpack/build?file=../../etc/passwd", read_flatpack_example("bookend"));
   ASSERT_EQ(r->status, 400) << r->body;
   EXPECT_NE(r->body.find("sheet-1.dxf"), std::string::npos) << r->body;  // lists what it has
 }
 
 TEST_F(FlatpackApiTest, BuildReturnsEachDownload) {
-  const std::string yaml = read_example("bookend");
+  const std::string yaml = read_flatpack_example("bookend");
   auto r = post("/api/flatpack/build?file=sheet-1.svg", yaml);
   ASSERT_EQ(r->status, 200) << r->body;
   EXPECT_NE(r->body.find("width=\"600mm\""), std::string::npos);

@@ -34,7 +34,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
-std::string read_example(const std::string& name) {
+std::string read_hacks_example(const std::string& name) {
   std::ifstream in(std::string(FABKIT_SOURCE_DIR) + "/examples/hacks/" + name + ".yaml");
   std::stringstream s;
   s << in.rdbuf();
@@ -212,7 +212,7 @@ TEST_F(Robustness, ExtraNamesAreAnsweredWhenAllowed) {
 
 TEST_F(Robustness, CrossSitePostsAreRefusedBeforeAnyWork) {
   start({});
-  const std::string design = read_example("bird_feeder");
+  const std::string design = read_hacks_example("bird_feeder");
   // "Simple" requests a page on any site may send without asking: refused by type.
   for (const char* type : {"text/plain",
                            "text/plain;charset=UTF-8",
@@ -389,7 +389,7 @@ TEST_F(Robustness, ConcurrentSolvesMeetTheirDeadlineAndLeaveGetsFast) {
   o.job_workers = 1;
   o.max_queued_jobs = 6;
   start(o);
-  const std::string design = read_example("reading_nook");
+  const std::string design = read_hacks_example("reading_nook");
   constexpr int kSolves = 10;
   std::vector<std::future<std::pair<int, double>>> solves;
   const auto started = Clock::now();

@@ -15,11 +15,8 @@
 namespace fabkit::templates {
 namespace {
 
+using testing::db;
 using testing::has_diagnostic;
-
-const TemplateDatabase& db() {
-  return TemplateDatabase::bundled();
-}
 
 TEST(Bom, TotalsAreTheSumOfTheItemsAndCountsMatchTheParts) {
   for (const std::string& name : db().names()) {
@@ -97,7 +94,9 @@ TEST(Bom, SmallSheetPiecesComeFromTheCheaperQuarterSheet) {
   ASSERT_TRUE(bom);
   for (const BomLine& l : bom->lines) {
     // The 450 x 400 top fits a 1200 x 600 panel ($34) rather than a 2400 x 600 one ($64).
-    if (l.item == "PANEL-PINE-18") EXPECT_NEAR(l.total, 34.0, 1e-9) << l.buy;
+    if (l.item == "PANEL-PINE-18") {
+      EXPECT_NEAR(l.total, 34.0, 1e-9) << l.buy;
+    }
   }
 }
 

@@ -13,12 +13,9 @@
 namespace fabkit::templates {
 namespace {
 
+using testing::db;
 using testing::element_named;
 using testing::has_diagnostic;
-
-const TemplateDatabase& db() {
-  return TemplateDatabase::bundled();
-}
 
 WorkingModel with(const std::string& first) {
   WorkingModel wm("model");

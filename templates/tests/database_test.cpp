@@ -40,8 +40,9 @@ TEST(Database, EveryBundledDesignIsATemplateDetailedDownToTheScrews) {
       for (ElementId e : c.connecting) in_connection.insert(e.value);
     }
     for (int e = 0; e < t->element_count(); ++e) {
-      if (!t->element(ElementId(e)).is_principal())
+      if (!t->element(ElementId(e)).is_principal()) {
         EXPECT_TRUE(in_connection.count(e)) << t->element(ElementId(e)).name;
+      }
     }
     EXPECT_EQ(t->part_count(), static_cast<int>(d->parts.size()));
     // Every node is a template: its subtree holds its own relations.

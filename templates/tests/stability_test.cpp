@@ -12,12 +12,9 @@
 namespace fabkit::templates {
 namespace {
 
+using testing::db;
 using testing::element_named;
 using testing::has_diagnostic;
-
-const TemplateDatabase& db() {
-  return TemplateDatabase::bundled();
-}
 
 TEST(Stability, EveryBundledDesignStandsAtRest) {
   for (const std::string& name : db().names()) {

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "fabkit/templates/database.h"
 #include "fabkit/templates/source_design.h"
 #include "fabkit/templates/template.h"
 
@@ -25,6 +26,11 @@ inline DesignPart part(const std::string& name,
   p.role = role;
   p.group = group;
   return p;
+}
+
+/// The bundled template database (built once, on first use).
+inline const TemplateDatabase& db() {
+  return TemplateDatabase::bundled();
 }
 
 /// The element named `name` (fails the test if missing).
