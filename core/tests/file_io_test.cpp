@@ -231,8 +231,8 @@ TEST(Text, CaseBlindNamesIdentifiersAndXmlText) {
   EXPECT_FALSE(is_identifier("hook-1"));
   EXPECT_FALSE(is_identifier("h\xc3\xa9"));  // é: identifiers are ASCII
   EXPECT_EQ(xml_escape("a<b & \"c\">"), "a&lt;b &amp; &quot;c&quot;&gt;");
-  // XML 1.0 forbids the other control characters, and a label is one line: both are dropped.
-  EXPECT_EQ(xml_escape("x\x01y\tz\x1f"), "xy\tz");
+  // XML 1.0 allows tab, line feed and carriage return and no other control character.
+  EXPECT_EQ(xml_escape("x\x01y\tz\x1f\n\r\x7f"), "xy\tz\n\r\x7f");
 }
 
 }  // namespace

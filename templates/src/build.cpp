@@ -10,6 +10,7 @@
 #include "fabkit/core/json.h"
 #include "fabkit/core/mesh_io.h"
 #include "fabkit/core/svg_preview.h"
+#include "fabkit/core/text.h"
 #include "fabkit/templates/diagnostic_codes.h"
 #include "fabkit/templates/scene.h"
 
@@ -18,29 +19,6 @@ namespace fabkit::templates {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::string html_escape(std::string_view s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::string file_safe(std::string_view s) {
   std::string out;
@@ -111,7 +89,7 @@ std::string report_html(const ComposedModel& cm,
   const Template& t = cm.model.model();
   std::string h;
   h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n";
-  h += fmt::format("<title>{} — fabkit bill of materials</title>\n", html_escape(cm.name));
+  h += fmt::format("<title>{} — fabkit bill of materials</title>\n", xml_escape(cm.name));
   h += "<style>body{font-family:sans-serif;margin:2em;max-width:60em}table{border-collapse:"
        "collapse;width:100%}"
        "td,th{border:1px solid #bbb;padding:3px "
@@ -119,8 +97,8 @@ std::string report_html(const ComposedModel& cm,
        ".bad{color:#b00}.ok{color:#070}figure{margin:1em 0;page-break-inside:avoid}figure "
        "svg{max-width:100%;"
        "height:auto;border:1px solid #ddd}@media print{a{color:black}}</style></head><body>\n";
-  h += fmt::format("<h1>{}</h1>\n", html_escape(cm.name));
-  if (!cm.description.empty()) h += fmt::format("<p>{}</p>\n", html_escape(cm.description));
+  h += fmt::format("<h1>{}</h1>\n", xml_escape(cm.name));
+  if (!cm.description.empty()) h += fmt::format("<p>{}</p>\n", xml_escape(cm.description));
   h += fmt::format(
       "<p>{} parts ({} principal elements, {} connections). Verdict: <b class=\"{}\">{}</b>.</p>\n",
       t.part_count(),
@@ -128,7 +106,7 @@ std::string report_html(const ComposedModel& cm,
           t.elements.begin(), t.elements.end(), [](const Element& e) { return e.is_principal(); }),
       t.connections.size(),
       check.verdict == "feasible" ? "ok" : "bad",
-      html_escape(check.verdict));
+      xml_escape(check.verdict));
   for (const auto& [name, svg] : drawings) {
     if (name != "preview") continue;
     h += "<figure>" + svg +
@@ -136,7 +114,7 @@ std::string report_html(const ComposedModel& cm,
   }
   h += "<h2>How it was composed</h2>\n<ol>\n";
   for (const StepReport& s : cm.steps) {
-    h += fmt::format("<li>{}: {}</li>\n", html_escape(s.text), html_escape(s.outcome));
+    h += fmt::format("<li>{}: {}</li>\n", xml_escape(s.text), xml_escape(s.outcome));
   }
   h += "</ol>\n";
   h += "<h2>Stability</h2>\n";
@@ -149,10 +127,10 @@ std::string report_html(const ComposedModel& cm,
     std::vector<std::string> names;
     for (ElementId e : b.elements) names.push_back(t.element(e).name);
     h += fmt::format("<tr><td>{}</td><td class=\"n\">{:.1f} kg</td><td class=\"{}\">{}</td></tr>\n",
-                     html_escape(fmt::format("{}", fmt::join(names, ", "))),
+                     xml_escape(fmt::format("{}", fmt::join(names, ", "))),
                      b.mass_kg,
                      b.stable ? "ok" : "bad",
-                     html_escape(b.verdict));
+                     xml_escape(b.verdict));
   }
   h += "</table>\n";
   if (check.bom) {
@@ -164,14 +142,14 @@ std::string report_html(const ComposedModel& cm,
       h += fmt::format(
           "<tr><td>{}</td><td>{}</td><td class=\"n\">{}</td><td>{}</td><td class=\"n\">${:.2f}</td>"
           "<td>{}</td><td>{}</td><td>{}</td></tr>\n",
-          html_escape(l.item),
-          html_escape(l.name),
+          xml_escape(l.item),
+          xml_escape(l.name),
           l.parts,
-          html_escape(l.buy),
+          xml_escape(l.buy),
           l.total,
-          html_escape(l.supplier),
-          html_escape(l.part_number),
-          html_escape(l.sizes));
+          xml_escape(l.supplier),
+          xml_escape(l.part_number),
+          xml_escape(l.sizes));
     }
     h += fmt::format(
         "<tr><th colspan=\"4\">total</th><th class=\"n\">${:.2f}</th><th "
@@ -180,13 +158,13 @@ std::string report_html(const ComposedModel& cm,
     h += "<h2>Cut diagrams</h2>\n<p>Red lines are saw cuts at the centre of the kerf.</p>\n";
     for (const auto& [name, svg] : drawings) {
       if (name == "preview") continue;
-      h += fmt::format("<figure>{}<figcaption>{}</figcaption></figure>\n", svg, html_escape(name));
+      h += fmt::format("<figure>{}<figcaption>{}</figcaption></figure>\n", svg, xml_escape(name));
     }
   }
   if (!check.diagnostics.empty()) {
     h += "<h2>Findings</h2>\n<ul>\n";
     for (const Diagnostic& d : check.diagnostics)
-      h += fmt::format("<li>{}</li>\n", html_escape(d.format()));
+      h += fmt::format("<li>{}</li>\n", xml_escape(d.format()));
     h += "</ul>\n";
   }
   h += "<p><small>Made with fabkit (design and fabrication by example). Prices are typical retail "

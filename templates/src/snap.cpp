@@ -66,10 +66,6 @@ SnapResult snap(const WorkingModel& wm,
   std::set<ElementId> mine_set(mine.begin(), mine.end());
   const Template local = model.subtree(added.node);
   const Eigen::Index n = local.q.size();
-  auto local_of = [&](ElementId model_e) {
-    return ElementId(
-        static_cast<int>(std::lower_bound(mine.begin(), mine.end(), model_e) - mine.begin()));
-  };
   // The model's planes (everything but the added template), principal elements only.
   struct ModelPlane {
     ElementId element;

@@ -27,8 +27,8 @@ std::string ascii_lower(std::string_view s);
 /// Whether `s` is an identifier: a letter or '_' first, then letters, digits and '_'.
 bool is_identifier(std::string_view s);
 
-/// `s` as one line of XML 1.0 text or an attribute value: & < > " escaped, and every control
-/// character but tab dropped (XML forbids most of them; a label is one line).
+/// `s` as XML 1.0 (or HTML) text or an attribute value: & < > " escaped, and the control
+/// characters XML forbids (all below U+0020 but tab, line feed and carriage return) dropped.
 std::string xml_escape(std::string_view s);
 
 }  // namespace fabkit
