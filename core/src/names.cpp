@@ -1,7 +1,6 @@
 #include "fabkit/core/names.h"
 
 #include <algorithm>
-#include <cctype>
 
 #include "fabkit/core/text.h"
 

@@ -6,7 +6,6 @@
 #include "fabkit/core/text.h"
 
 namespace fabkit {
-namespace {}  // namespace
 
 void CutSheet::add_cut(const Polygon2d& polygon) {
   outlines.push_back({polygon.outer, SheetLayer::kCut});

@@ -2,9 +2,7 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <array>
-#include <cctype>
 
 #include "fabkit/core/text.h"
 #include "fabkit/hacks/diagnostic_codes.h"
