@@ -3,8 +3,10 @@
 
 #include <ccd/ccd.h>
 #include <fcl/fcl.h>
+#include <fcl/narrowphase/detail/convexity_based_algorithm/gjk_libccd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace fabkit::collision {
@@ -15,9 +17,38 @@ struct Body::Pieces {
   std::vector<Vec3> lo, hi;
   std::vector<Vec3> centre;
   std::vector<std::vector<Vec3>> vertices;
+  std::vector<std::vector<Arc>> arcs;
 };
 
-Body::Body(std::span<const TriangleMesh> pieces, std::span<const int> tags) {
+Arc Arc::transformed(const Mat4& m) const {
+  Arc out = *this;
+  const Mat3 r = m.topLeftCorner<3, 3>();
+  out.centre = r * centre + m.topRightCorner<3, 1>();
+  out.u = r * u;
+  out.v = r * v;
+  return out;
+}
+
+Vec3 Arc::support(const Vec3& direction) const {
+  const double du = direction.dot(u);
+  const double dv = direction.dot(v);
+  double a = from;
+  if (std::hypot(du, dv) > 1e-15 * direction.norm()) {
+    const double toward = std::atan2(dv, du);
+    const double turn = std::remainder(toward - from - std::numbers::pi, 2 * std::numbers::pi) +
+                        std::numbers::pi;  // toward - from, in [0, 2π)
+    if (turn <= to - from) {
+      a = from + turn;
+    } else {
+      a = std::cos(from - toward) >= std::cos(to - toward) ? from : to;
+    }
+  }
+  return centre + radius * (std::cos(a) * u + std::sin(a) * v);
+}
+
+Body::Body(std::span<const TriangleMesh> pieces,
+           std::span<const int> tags,
+           std::span<const std::vector<Arc>> arcs) {
   auto out = std::make_shared<Pieces>();
   bool first = true;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
@@ -41,14 +72,22 @@ Body::Body(std::span<const TriangleMesh> pieces, std::span<const int> tags) {
     shape->computeLocalAABB();
     out->shapes.push_back(std::move(shape));
     out->tags.push_back(i < tags.size() ? tags[i] : -1);
-    const Vec3 lo = m.bounds_min();
-    const Vec3 hi = m.bounds_max();
+    const std::vector<Arc> rims = i < arcs.size() ? arcs[i] : std::vector<Arc>{};
+    Vec3 lo = m.bounds_min();
+    Vec3 hi = m.bounds_max();
+    for (const Arc& rim : rims) {
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], rim.support(-Vec3::Unit(k))[k]);
+        hi[k] = std::max(hi[k], rim.support(Vec3::Unit(k))[k]);
+      }
+    }
     out->lo.push_back(lo);
     out->hi.push_back(hi);
     Vec3 c = Vec3::Zero();
     for (const Vec3& v : m.vertices) c += v;
     out->centre.push_back(c / static_cast<double>(m.vertices.size()));
     out->vertices.push_back(m.vertices);
+    out->arcs.push_back(rims);
     min_ = first ? lo : min_.cwiseMin(lo);
     max_ = first ? hi : max_.cwiseMax(hi);
     first = false;
@@ -77,12 +116,16 @@ CachedBody& CachedBody::operator=(const CachedBody& other) {
   return *this;
 }
 
-Body CachedBody::get(std::span<const TriangleMesh> pieces, std::span<const int> tags) const {
+Body CachedBody::get(std::span<const TriangleMesh> pieces,
+                     std::span<const int> tags,
+                     std::span<const std::vector<Arc>> arcs) const {
   const std::lock_guard lock(mutex_);
-  if (!body_ || built_from_ != pieces.data() || built_count_ != pieces.size()) {
-    body_.emplace(pieces, tags);
+  if (!body_ || built_from_ != pieces.data() || built_count_ != pieces.size() ||
+      built_arc_count_ != arcs.size()) {
+    body_.emplace(pieces, tags, arcs);
     built_from_ = pieces.data();
     built_count_ = pieces.size();
+    built_arc_count_ = arcs.size();
   }
   return *body_;
 }
@@ -120,6 +163,7 @@ namespace {
 // A piece at a pose, for libccd's support-mapping algorithms.
 struct Placed {
   const std::vector<Vec3>* vertices;
+  const std::vector<Arc>* arcs;
   Mat3 r;
   Vec3 t;
   Vec3 centre;
@@ -137,7 +181,15 @@ void support(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* out) {
       best = &v;
     }
   }
-  const Vec3 w = p.r * *best + p.t;
+  Vec3 point = *best;
+  for (const Arc& rim : *p.arcs) {
+    const Vec3 on = rim.support(local);
+    if (local.dot(on) > extent) {
+      extent = local.dot(on);
+      point = on;
+    }
+  }
+  const Vec3 w = p.r * point + p.t;
   ccdVec3Set(out, w.x(), w.y(), w.z());
 }
 
@@ -155,29 +207,98 @@ Proximity piece_distance(
   const auto ia = static_cast<std::size_t>(pa);
   const auto ib = static_cast<std::size_t>(pb);
   Proximity p;
-  // Apart: FCL's GJK distance and nearest points. (Its signed distance runs EPA, which
-  // asserts on touching and nearly degenerate pairs; overlaps go to libccd's MPR below.)
-  fcl::DistanceRequestd request;
-  request.enable_nearest_points = true;
-  request.enable_signed_distance = false;
-  request.gjk_solver_type = fcl::GST_LIBCCD;
-  fcl::DistanceResultd result;
-  fcl::distance(A.shapes[ia].get(), to_fcl(ta), B.shapes[ib].get(), to_fcl(tb), request, result);
   const Placed pa_world{&A.vertices[ia],
+                        &A.arcs[ia],
                         ta.topLeftCorner<3, 3>(),
                         ta.topRightCorner<3, 1>(),
                         ta.topLeftCorner<3, 3>() * A.centre[ia] + ta.topRightCorner<3, 1>()};
   const Placed pb_world{&B.vertices[ib],
+                        &B.arcs[ib],
                         tb.topLeftCorner<3, 3>(),
                         tb.topRightCorner<3, 1>(),
                         tb.topLeftCorner<3, 3>() * B.centre[ib] + tb.topRightCorner<3, 1>()};
+  // Apart: GJK distance and nearest points. (FCL's signed distance runs EPA, which asserts on
+  // touching and nearly degenerate pairs; overlaps go to libccd's MPR below.) Pieces with
+  // round rims go through the same GJK with their exact support mapping; its tolerance is
+  // tight because a round piece's nearest points, and so the contact normal, converge only
+  // as the square root of the distance's.
+  fcl::DistanceRequestd request;
+  request.enable_nearest_points = true;
+  request.enable_signed_distance = false;
+  request.gjk_solver_type = fcl::GST_LIBCCD;
+  const bool round = !A.arcs[ia].empty() || !B.arcs[ib].empty();
+  auto gjk = [&](const Vec3& shift) {
+    fcl::DistanceResultd out;
+    if (!round) {
+      Mat4 moved = tb;
+      moved.topRightCorner<3, 1>() += shift;
+      fcl::distance(
+          A.shapes[ia].get(), to_fcl(ta), B.shapes[ib].get(), to_fcl(moved), request, out);
+      return out;
+    }
+    Placed b_moved = pb_world;
+    b_moved.t += shift;
+    b_moved.centre += shift;
+    Placed a_copy = pa_world;
+    double d = -1;
+    fcl::Vector3d near_a = fcl::Vector3d::Zero(), near_b = fcl::Vector3d::Zero();
+    constexpr unsigned kRoundIterations = 500;
+    constexpr double kRoundTolerance = 1e-12;
+    if (fcl::detail::GJKDistance<double>(&a_copy,
+                                         support,
+                                         &b_moved,
+                                         support,
+                                         kRoundIterations,
+                                         kRoundTolerance,
+                                         &d,
+                                         &near_a,
+                                         &near_b)) {
+      out.min_distance = d;
+      out.nearest_points[0] = near_a;
+      out.nearest_points[1] = near_b;
+    } else {
+      out.min_distance = -1;
+    }
+    return out;
+  };
+  const fcl::DistanceResultd result = gjk(Vec3::Zero());
+  // Round pieces: GJK finds their nearest points only to about 1e-9 mm, so when they (nearly)
+  // touch, the direction between those points is not the normal. Moving b away along the
+  // true normal keeps the same nearest points; moving it along a guess tilts the normal found
+  // by about the guess's error times the move over the radius of curvature, so a few moves,
+  // each along the normal the last one found, converge to it.
+  auto refine_round = [&](Vec3 guess, double distance_now) {
+    constexpr double kShiftMm = 0.02;
+    bool found = false;
+    for (int k = 0; k < 4; ++k) {
+      const Vec3 shift = (kShiftMm + std::max(0.0, -distance_now)) * guess;
+      const fcl::DistanceResultd apart = gjk(shift);
+      if (!(apart.min_distance > 1e-9)) break;
+      const Vec3 b_moved = apart.nearest_points[1];
+      const Vec3 normal = (b_moved - Vec3(apart.nearest_points[0])).normalized();
+      p.distance = distance_now;
+      p.point_a = apart.nearest_points[0];
+      p.point_b = b_moved - shift;
+      p.normal = normal;
+      found = true;
+      if ((normal - guess).norm() < 1e-12) break;
+      guess = normal;
+    }
+    return found;
+  };
+  const Vec3 centres = pb_world.centre - pa_world.centre;
+  const Vec3 centre_line = centres.norm() > 1e-12 ? Vec3(centres.normalized()) : Vec3::UnitZ();
   if (result.min_distance > 1e-9) {
     p.distance = result.min_distance;
     p.point_a = result.nearest_points[0];
     p.point_b = result.nearest_points[1];
     const Vec3 d = p.point_b - p.point_a;
-    p.normal = d.norm() > 1e-12 ? Vec3(d.normalized())
-                                : Vec3((pb_world.centre - pa_world.centre).normalized());
+    p.normal = d.norm() > 1e-12 ? Vec3(d.normalized()) : centre_line;
+    constexpr double kRoundNormalExactBeyondMm = 1e-3;
+    if (round && p.distance < kRoundNormalExactBeyondMm) {
+      const Vec3 guess = p.distance > 1e-6 ? p.normal : centre_line;
+      refine_round(guess, p.distance);
+    }
     return p;
   }
   // Overlapping (or touching): the penetration depth and the direction that separates b
@@ -198,15 +319,11 @@ Proximity piece_distance(
   // centres, which points to b's side of any plane separating them) and asking GJK gives the
   // real normal: for a face against a vertex, that face's.
   auto from_separated = [&](double depth_now) {
-    const Vec3 c = pb_world.centre - pa_world.centre;
-    const Vec3 away = c.norm() > 1e-12 ? Vec3(c.normalized()) : Vec3::UnitZ();
+    if (round) return refine_round(centre_line, -depth_now);
+    const Vec3 away = centre_line;
     for (const double step : {0.05, 1.0}) {
       const Vec3 shift = step * away;
-      Mat4 moved = tb;
-      moved.topRightCorner<3, 1>() += shift;
-      fcl::DistanceResultd apart;
-      fcl::distance(
-          A.shapes[ia].get(), to_fcl(ta), B.shapes[ib].get(), to_fcl(moved), request, apart);
+      const fcl::DistanceResultd apart = gjk(shift);
       if (apart.min_distance > 1e-9) {
         p.distance = -depth_now;
         p.point_a = apart.nearest_points[0];

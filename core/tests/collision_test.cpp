@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -70,6 +71,88 @@ TEST(Collision, InvariantUnderRigidMotionOfBoth) {
       piece_distance(a, 0, world * at(Vec3::Zero()), b, 0, world * at(Vec3(12, 0, 0))).distance;
   EXPECT_NEAR(d0, 5.0, 1e-6);
   EXPECT_NEAR(d1, d0, 1e-6);
+}
+
+// A rod drawn as a coarse hexagonal prism but given its two end circles as rims is a real
+// cylinder: its gap to a wall is the same whichever way it is spun about its axis (the prism
+// alone is not), and the normal is the wall's.
+TEST(Collision, ARoundRodIsTheSameCylinderWhateverItsSpin) {
+  const std::vector<TriangleMesh> prism{shapes::cylinder(10, 60, 6)};
+  const std::vector<int> tags{-1};
+  Arc low, high;
+  low.radius = high.radius = 10;
+  low.centre = Vec3(0, 0, -30);
+  high.centre = Vec3(0, 0, 30);
+  const std::vector<std::vector<Arc>> rims{{low, high}};
+  const Body rod(prism, tags, rims);
+  const Body faceted(prism, tags);
+  const Body wall = one(block(Vec3(15, -50, -50), Vec3(40, 50, 50)));
+  double faceted_low = 1e9, faceted_high = -1e9;
+  for (double spin = 0; spin < 60; spin += 7) {
+    const Proximity p = piece_distance(rod, 0, at(Vec3::Zero(), spin), wall, 0, at(Vec3::Zero()));
+    EXPECT_NEAR(p.distance, 5.0, 1e-6) << spin;
+    EXPECT_NEAR(p.normal.x(), 1.0, 1e-6) << spin;
+    const double f =
+        piece_distance(faceted, 0, at(Vec3::Zero(), spin), wall, 0, at(Vec3::Zero())).distance;
+    faceted_low = std::min(faceted_low, f);
+    faceted_high = std::max(faceted_high, f);
+  }
+  // Sunk 0.3 mm into the wall, the depth is the overlap.
+  const Proximity sunk = piece_distance(rod, 0, at(Vec3(5.3, 0, 0), 17), wall, 0, at(Vec3::Zero()));
+  EXPECT_NEAR(sunk.distance, -0.3, 1e-3);
+  EXPECT_NEAR(sunk.normal.x(), 1.0, 1e-3);
+  // The prism's gap swings between 15 − 10 and 15 − 10·cos 30°.
+  EXPECT_GT(faceted_high - faceted_low, 1.0);
+  EXPECT_NEAR(rod.piece_max(0).x(), 10, 1e-9);
+  EXPECT_NEAR(rod.piece_min(0).y(), -10, 1e-9);
+}
+
+// A round rod rolling around a box's edge: the gap is the axis's distance to the edge less the
+// radius and the normal points from the axis to the edge, changing smoothly as it rolls (what
+// a relaxation resting a roll on an edge needs), down to touching.
+TEST(Collision, ARoundRodAgainstAnEdgeHasTheExactGapAndNormal) {
+  const std::vector<TriangleMesh> prism{shapes::cylinder(10, 60, 8)};
+  const std::vector<int> tags{-1};
+  Arc low, high;
+  low.radius = high.radius = 10;
+  low.centre = Vec3(0, 0, -30);
+  high.centre = Vec3(0, 0, 30);
+  const std::vector<std::vector<Arc>> rims{{low, high}};
+  const Body rod(prism, tags, rims);
+  // The block's edge along z through (20, 0).
+  const Body block_body = one(block(Vec3(20, 0, -50), Vec3(60, 40, 50)));
+  for (double a = 185; a < 265; a += 11) {
+    const double r = a * M_PI / 180;
+    const Vec3 towards_edge(-std::cos(r), -std::sin(r), 0);  // from the axis to the edge
+    for (const double gap : {3.0, 1e-3, 1e-10}) {
+      const Vec3 axis = Vec3(20, 0, 0) - (10 + gap) * towards_edge;
+      const Proximity p = piece_distance(rod, 0, at(axis), block_body, 0, at(Vec3::Zero()));
+      SCOPED_TRACE(testing::Message() << "angle " << a << " gap " << gap);
+      EXPECT_NEAR(p.distance, gap, 1e-6);
+      EXPECT_NEAR(p.normal.dot(towards_edge), 1.0, 1e-8);
+    }
+  }
+}
+
+// A quarter of a circle as a piece's rim widens its bounds only where the arc goes.
+TEST(Collision, AnArcRimBoundsAndSupport) {
+  Arc quarter;
+  quarter.radius = 10;
+  quarter.from = 0;
+  quarter.to = M_PI / 2;
+  EXPECT_NEAR(
+      (quarter.support(Vec3(1, 1, 0)) - Vec3(std::sqrt(50), std::sqrt(50), 0)).norm(), 0, 1e-12);
+  // Outside the arc's angles the nearer end is the farthest point along the direction.
+  EXPECT_NEAR((quarter.support(Vec3(1, -3, 0)) - Vec3(10, 0, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((quarter.support(Vec3(-3, 1, 0)) - Vec3(0, 10, 0)).norm(), 0, 1e-12);
+  const std::vector<TriangleMesh> pieces{block(Vec3(0, 0, -1), Vec3(1, 1, 1))};
+  const std::vector<int> tags{-1};
+  const std::vector<std::vector<Arc>> rims{{quarter}};
+  const Body b(pieces, tags, rims);
+  EXPECT_NEAR(b.piece_max(0).x(), 10, 1e-12);
+  EXPECT_NEAR(b.piece_max(0).y(), 10, 1e-12);
+  EXPECT_NEAR(b.piece_min(0).x(), 0, 1e-12);
+  EXPECT_NEAR(b.piece_min(0).y(), 0, 1e-12);
 }
 
 // A body keeps its pieces' tags and bounds.

@@ -227,6 +227,7 @@ ConnectReport Assembly::add(const PrimitiveRef& primitive,
     copy->mesh = TriangleMesh();
     copy->collision_pieces.clear();
     copy->collision_tags.clear();
+    copy->collision_rims.clear();
     for (std::size_t i = 0; i < copy->primitives.size(); ++i) {
       if (!n.placed[i]) continue;
       copy->mesh.append(primitive_mesh(copy->primitives[i]));

@@ -7,7 +7,8 @@ namespace fabkit::hacks::detail {
 ContactModel::ContactModel(const Assembly& a) {
   for (const PartNode& n : a.nodes()) {
     const Part& part = *n.part;
-    bodies_.push_back(part.collision_body.get(part.collision_pieces, part.collision_tags));
+    bodies_.push_back(
+        part.collision_body.get(part.collision_pieces, part.collision_tags, part.collision_rims));
   }
   for (const Connection& c : a.connections()) {
     joined_.push_back({c.first.part.value,

@@ -55,10 +55,14 @@ std::vector<TriangleMesh> arc_pieces(double arc_radius,
   return out;
 }
 
+namespace {
+constexpr int kTubeSectors = 12;
+}  // namespace
+
 std::vector<TriangleMesh> tube_pieces(double inner_radius, double outer_radius, double length) {
   std::vector<TriangleMesh> out;
   if (!(outer_radius > inner_radius) || !(inner_radius >= 0) || !(length > 0)) return out;
-  constexpr int kSectors = 12;
+  constexpr int kSectors = kTubeSectors;
   for (int i = 0; i < kSectors; ++i) {
     const double a0 = 2 * std::numbers::pi * i / kSectors;
     const double a1 = 2 * std::numbers::pi * (i + 1) / kSectors;
@@ -74,8 +78,46 @@ std::vector<TriangleMesh> tube_pieces(double inner_radius, double outer_radius, 
   return out;
 }
 
+std::vector<std::vector<collision::Arc>> tube_piece_rims(double inner_radius,
+                                                         double outer_radius,
+                                                         double length) {
+  std::vector<std::vector<collision::Arc>> out;
+  if (!(outer_radius > inner_radius) || !(inner_radius >= 0) || !(length > 0)) return out;
+  for (int i = 0; i < kTubeSectors; ++i) {
+    std::vector<collision::Arc> rims;
+    for (const double z : {-length / 2, length / 2}) {
+      collision::Arc rim;
+      rim.centre = Vec3(0, 0, z);
+      rim.radius = outer_radius;
+      rim.from = 2 * std::numbers::pi * i / kTubeSectors;
+      rim.to = 2 * std::numbers::pi * (i + 1) / kTubeSectors;
+      rims.push_back(rim);
+    }
+    out.push_back(std::move(rims));
+  }
+  return out;
+}
+
+std::vector<collision::Arc> cylinder_rims(double radius, double length) {
+  std::vector<collision::Arc> out;
+  if (!(radius > 0) || !(length > 0)) return out;
+  for (const double z : {-length / 2, length / 2}) {
+    collision::Arc rim;
+    rim.centre = Vec3(0, 0, z);
+    rim.radius = radius;
+    out.push_back(rim);
+  }
+  return out;
+}
+
 void transform_pieces(std::vector<TriangleMesh>& pieces, const Mat4& m) {
   for (TriangleMesh& p : pieces) p.transform(m);
+}
+
+void transform_rims(std::vector<std::vector<collision::Arc>>& rims, const Mat4& m) {
+  for (std::vector<collision::Arc>& piece : rims) {
+    for (collision::Arc& rim : piece) rim = rim.transformed(m);
+  }
 }
 
 }  // namespace fabkit::hacks::detail

@@ -164,11 +164,39 @@ std::vector<TriangleMesh> primitive_pieces(const Primitive& p) {
   return pieces;
 }
 
+std::vector<std::vector<collision::Arc>> primitive_piece_rims(const Primitive& p) {
+  if (!drawable(p)) return {};
+  const PrimitiveShape& s = p.shape;
+  std::vector<std::vector<collision::Arc>> rims;
+  switch (p.type) {
+    case PrimitiveType::kRod:
+      rims.push_back(detail::cylinder_rims(s.radius, s.length));
+      break;
+    case PrimitiveType::kTube:
+      rims = detail::tube_piece_rims(s.inner_radius, s.inner_radius + s.thickness, s.length);
+      break;
+    case PrimitiveType::kHook:
+    case PrimitiveType::kRing:
+    case PrimitiveType::kEdge:
+    case PrimitiveType::kSurface:
+    case PrimitiveType::kHemisphere:
+    case PrimitiveType::kClip:
+      return {};
+  }
+  detail::transform_rims(rims, p.frame.matrix());
+  return rims;
+}
+
 void add_primitive_pieces(Part& part, int index) {
-  for (TriangleMesh& piece :
-       primitive_pieces(part.primitives.at(static_cast<std::size_t>(index)))) {
-    part.collision_pieces.push_back(std::move(piece));
+  const Primitive& primitive = part.primitives.at(static_cast<std::size_t>(index));
+  std::vector<std::vector<collision::Arc>> rims = primitive_piece_rims(primitive);
+  std::vector<TriangleMesh> pieces = primitive_pieces(primitive);
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    part.collision_rims.resize(part.collision_pieces.size());
+    part.collision_pieces.push_back(std::move(pieces[k]));
     part.collision_tags.push_back(index);
+    part.collision_rims.push_back(k < rims.size() ? std::move(rims[k])
+                                                  : std::vector<collision::Arc>{});
   }
 }
 

@@ -6,10 +6,14 @@
 /// A body is a list of convex pieces — closed convex triangle meshes in the body's own
 /// coordinates (mm) — each with a tag the caller chooses (which connector it draws, or -1 for
 /// the rest of the object). Non-convex objects are described by several pieces; a body is the
-/// union of its pieces.
+/// union of its pieces. A piece may also have round rims (`Arc`s): it is then the convex hull
+/// of its mesh's vertices and its arcs, so that a rod or a tube is a real cylinder, whose
+/// distance to an edge and contact normal change smoothly as it rolls (a faceted one's jump
+/// from facet to facet, which stalls a relaxation resting on it).
 
 #include <memory>
 #include <mutex>
+#include <numbers>
 #include <optional>
 #include <span>
 #include <vector>
@@ -30,6 +34,21 @@ struct Proximity {
   Vec3 normal = Vec3::UnitZ();
 };
 
+/// A circular arc on a piece's boundary: centre + radius (cos a u + sin a v) for a in
+/// [from, to] (radians; to - from at most 2π), u and v orthonormal.
+struct Arc {
+  Vec3 centre = Vec3::Zero();
+  Vec3 u = Vec3::UnitX();
+  Vec3 v = Vec3::UnitY();
+  double radius = 0;
+  double from = 0;
+  double to = 2 * std::numbers::pi;
+  /// The arc moved by the rigid transform `m`.
+  Arc transformed(const Mat4& m) const;
+  /// The arc's point farthest along `direction` (any point when it is normal to the arc).
+  Vec3 support(const Vec3& direction) const;
+};
+
 class Body;
 Proximity piece_distance(
     const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
@@ -38,8 +57,11 @@ class Body {
  public:
   Body() = default;
   /// `pieces` must be closed and convex (their vertices' convex hull is what is used);
-  /// `tags` has one entry per piece.
-  Body(std::span<const TriangleMesh> pieces, std::span<const int> tags);
+  /// `tags` has one entry per piece; `arcs`, when given, the round rims of each piece (it may
+  /// be shorter than `pieces`: the rest have none).
+  Body(std::span<const TriangleMesh> pieces,
+       std::span<const int> tags,
+       std::span<const std::vector<Arc>> arcs = {});
 
   bool empty() const { return pieces_ == nullptr || piece_count() == 0; }
   int piece_count() const;
@@ -70,14 +92,17 @@ class CachedBody {
   CachedBody() = default;
   CachedBody(const CachedBody&) {}
   CachedBody& operator=(const CachedBody&);
-  /// The body of `pieces` and `tags`, built on the first call.
-  Body get(std::span<const TriangleMesh> pieces, std::span<const int> tags) const;
+  /// The body of `pieces`, `tags` and `arcs`, built on the first call.
+  Body get(std::span<const TriangleMesh> pieces,
+           std::span<const int> tags,
+           std::span<const std::vector<Arc>> arcs = {}) const;
 
  private:
   mutable std::mutex mutex_;
   mutable std::optional<Body> body_;
   mutable const TriangleMesh* built_from_ = nullptr;
   mutable std::size_t built_count_ = 0;
+  mutable std::size_t built_arc_count_ = 0;
 };
 
 /// Signed distance between piece `pa` of `a` at world pose `ta` and piece `pb` of `b` at `tb`.

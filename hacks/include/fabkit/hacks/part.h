@@ -43,6 +43,10 @@ struct Part {
   /// part known only by a mesh file: its contacts are not checked.
   std::vector<TriangleMesh> collision_pieces;
   std::vector<int> collision_tags;
+  /// The pieces' round rims (collision::Arc), one list per piece; it may be shorter than
+  /// `collision_pieces` (the rest have none). A rod is the convex hull of its two end
+  /// circles, an exact cylinder; a tube's sectors have its round outer surface.
+  std::vector<std::vector<collision::Arc>> collision_rims;
   /// `collision_pieces` as a collision body, built on first use (a copy builds its own).
   collision::CachedBody collision_body;
   /// Values of a parametric part's parameters (empty for fixed parts).
@@ -62,7 +66,10 @@ TriangleMesh primitive_mesh(const Primitive& p);
 /// The same primitive as convex pieces (see Part::collision_pieces), in its part's
 /// coordinates.
 std::vector<TriangleMesh> primitive_pieces(const Primitive& p);
-/// Appends primitive `index`'s pieces to `part`'s collision pieces, tagged with `index`.
+/// The round rims of primitive_pieces(p), one list per piece (empty when none has any).
+std::vector<std::vector<collision::Arc>> primitive_piece_rims(const Primitive& p);
+/// Appends primitive `index`'s pieces (and their rims) to `part`'s collision pieces, tagged
+/// with `index`.
 void add_primitive_pieces(Part& part, int index);
 
 /// A part made of loose primitives, as the paper's Environment({"name": Primitive, ...}).
