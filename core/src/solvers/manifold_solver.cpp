@@ -455,6 +455,10 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
   int motions = n_;  // free motions at the last iteration
   Clock::duration last{};
   std::optional<Clock::time_point> previous;
+  bool model_current = false;
+  Active act;
+  Eigen::VectorXd rg, lambda, c;
+  Eigen::MatrixXd V;
   for (; it < max_iterations; ++it) {
     const auto began = Clock::now();
     if (previous) {
@@ -463,38 +467,44 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
     }
     previous = began;
     if (no_time_for(newton_cost(motions, last))) break;
-    const Active act = active_set(cur);
-    if (act.Z.cols() == 0) break;
-    motions = static_cast<int>(act.Z.cols());
-    const Eigen::VectorXd rg = act.Z.transpose() * rows(cur.g, act.free);
-    const Eigen::MatrixXd full = lagrangian_hessian(cur, act);
-    if (out_of_time()) break;
-    // With no rows kept Z is the identity (null_space): its products would cost n³ each.
-    Eigen::MatrixXd H = act.rows.empty() ? full : Eigen::MatrixXd(act.Z.transpose() * full * act.Z);
-    H = 0.5 * (H + H.transpose());
-    if (out_of_time()) break;
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
-    if (out_of_time()) break;
-    const Eigen::VectorXd& raw = eig.eigenvalues();
-    // Eigenvectors come with an arbitrary sign; fix it (largest entry positive) so that an
-    // escape from a balance point goes the same way whatever round-off chose.
-    Eigen::MatrixXd V = eig.eigenvectors();
-    for (int i = 0; i < V.cols(); ++i) {
-      Eigen::Index k = 0;
-      V.col(i).cwiseAbs().maxCoeff(&k);
-      if (V(k, i) < 0) V.col(i) = -V.col(i);
-    }
-    const double neutral =
-        std::max(options_.neutral_floor, options_.neutral_curvature * raw.cwiseAbs().maxCoeff());
-    // Curvatures within ± neutral are 0; gradient components below tolerance are 0.
-    Eigen::VectorXd lambda = raw;
-    for (int i = 0; i < lambda.size(); ++i) {
-      if (std::abs(lambda[i]) <= neutral) lambda[i] = 0;
-    }
-    Eigen::VectorXd c = V.transpose() * rg;
-    for (int i = 0; i < c.size(); ++i) {
-      if (std::abs(c[i]) <= 0.1 * options_.gradient_tolerance) c[i] = 0;
-      if (lambda[i] == 0 && std::abs(c[i]) <= options_.neutral_slope) c[i] = 0;
+    // The model at cur: a rejected step changes only the radius, so it is kept until cur moves
+    // (the Hessian and its eigendecomposition are most of an iteration's cost).
+    if (!model_current) {
+      act = active_set(cur);
+      if (act.Z.cols() == 0) break;
+      motions = static_cast<int>(act.Z.cols());
+      rg = act.Z.transpose() * rows(cur.g, act.free);
+      const Eigen::MatrixXd full = lagrangian_hessian(cur, act);
+      if (out_of_time()) break;
+      // With no rows kept Z is the identity (null_space): its products would cost n³ each.
+      Eigen::MatrixXd H =
+          act.rows.empty() ? full : Eigen::MatrixXd(act.Z.transpose() * full * act.Z);
+      H = 0.5 * (H + H.transpose());
+      if (out_of_time()) break;
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
+      if (out_of_time()) break;
+      const Eigen::VectorXd& raw = eig.eigenvalues();
+      // Eigenvectors come with an arbitrary sign; fix it (largest entry positive) so that an
+      // escape from a balance point goes the same way whatever round-off chose.
+      V = eig.eigenvectors();
+      for (int i = 0; i < V.cols(); ++i) {
+        Eigen::Index k = 0;
+        V.col(i).cwiseAbs().maxCoeff(&k);
+        if (V(k, i) < 0) V.col(i) = -V.col(i);
+      }
+      const double neutral =
+          std::max(options_.neutral_floor, options_.neutral_curvature * raw.cwiseAbs().maxCoeff());
+      // Curvatures within ± neutral are 0; gradient components below tolerance are 0.
+      lambda = raw;
+      for (int i = 0; i < lambda.size(); ++i) {
+        if (std::abs(lambda[i]) <= neutral) lambda[i] = 0;
+      }
+      c = V.transpose() * rg;
+      for (int i = 0; i < c.size(); ++i) {
+        if (std::abs(c[i]) <= 0.1 * options_.gradient_tolerance) c[i] = 0;
+        if (lambda[i] == 0 && std::abs(c[i]) <= options_.neutral_slope) c[i] = 0;
+      }
+      model_current = true;
     }
     const bool stationary = rg.cwiseAbs().maxCoeff() < options_.gradient_tolerance;
     if (stationary && lambda[0] >= 0) break;  // a minimum (up to neutral directions)
@@ -567,12 +577,14 @@ ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_
       rho = after < 0.5 * before && actual > -resolvable ? 1.0 : 0.0;
       if (rho > 0) {
         cur = std::move(trial);
+        model_current = false;
         continue;
       }
     }
     if (trial.valid && actual > 0 && rho > 0.1) {
       if (lambda_min < 0 && stationary) ++out.escapes;
       cur = std::move(trial);
+      model_current = false;
       if (rho > 0.75 && p.norm() > 0.99 * radius) radius = std::min(2 * radius, options_.max_step);
     } else {
       radius *= 0.25;
