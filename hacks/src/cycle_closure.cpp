@@ -142,6 +142,9 @@ constexpr int kClosureJetStride = 4;
 // iterations so, two thirds of their verification; every gallery cycle closes with the same
 // starts either way).
 constexpr double kStallFactor = 0.5;
+// Iterations of each small step of a drag, and of the stretching start's final fits.
+constexpr int kDragStepIterations = 15;
+constexpr int kStretchIterations = 1000;
 
 // Stops a start early: as soon as the cycle is closed, or when it stalls (kStallFactor).
 class StallCallback : public ceres::IterationCallback {
@@ -149,13 +152,15 @@ class StallCallback : public ceres::IterationCallback {
   StallCallback(double tolerance, std::optional<std::chrono::steady_clock::time_point> deadline)
       : tolerance_(tolerance), deadline_(deadline) {}
   void reset() { history_.clear(); }
+  /// Whether a stalled fit is stopped (a nearly taut chain converges slowly but surely).
+  bool stop_stalled = true;
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     const double c = 2 * s.cost;  // Ceres reports ½‖r‖²
     if (c <= tolerance_) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     // Checked per iteration: one start's fit of a long cycle takes tens of milliseconds.
     if (deadline_ && std::chrono::steady_clock::now() > *deadline_) return ceres::SOLVER_ABORT;
     history_.push_back(c);
-    if (history_.size() > 10 && c > kStallFactor * history_[history_.size() - 11]) {
+    if (stop_stalled && history_.size() > 10 && c > kStallFactor * history_[history_.size() - 11]) {
       return ceres::SOLVER_ABORT;
     }
     return ceres::SOLVER_CONTINUE;
@@ -356,37 +361,96 @@ ClosureResult close_cycles(const Assembly& assembly,
     }
   };
 
-  // The drag start: from the current configuration, pull each open end to its anchor along a
-  // straight line in small steps, as a person would pull a chain taut, then close fully. Long
-  // chains whose random starts fold up close this way (a 16-hook span the random starts miss).
-  auto drag = [&] {
-    load_start(0);
-    std::vector<double> x(x0);
-    for (std::size_t k = 0; k < m; ++k) x[static_cast<std::size_t>(layout.variables[k])] = z[k];
-    std::vector<Vec3> gap0;
-    for (ConnectionId id : layout.closures) {
-      const auto [f1, f2] = assembly.connection_frames<double>(id, x.data());
-      gap0.push_back(f1.t - f2.t);
-    }
-    // Steps of about 20 mm: each fit starts close to its answer.
-    double longest = 0;
-    for (const Vec3& g : gap0) longest = std::max(longest, g.norm());
-    const int steps = std::clamp(static_cast<int>(std::ceil(longest / 20.0)), 8, 100);
+  // Pulls each open end to its anchor in small steps of its position gap, along `path` (the
+  // gaps to leave open on the way, the last one 0 for every closure), then closes fully.
+  auto drag_along = [&](const std::vector<std::vector<Vec3>>& path) {
     const int saved = solver_options.max_num_iterations;
-    solver_options.max_num_iterations = 15;
-    for (int step = 1; step <= steps; ++step) {
-      const double keep = 1.0 - static_cast<double>(step) / steps;
-      functor->drag_gap.clear();
-      for (const Vec3& g : gap0) functor->drag_gap.push_back(keep * g);
-      // Orientation matters more as the end arrives: it is aligned by the time it is there.
-      solve(kPhaseOneRotationWeight + (1 - kPhaseOneRotationWeight) * (1 - keep) * (1 - keep));
-      if (options.deadline && std::chrono::steady_clock::now() > *options.deadline) break;
+    solver_options.max_num_iterations = kDragStepIterations;
+    std::vector<Vec3> from = path.front();
+    for (std::size_t leg = 1; leg < path.size(); ++leg) {
+      const std::vector<Vec3>& to = path[leg];
+      // Steps of about 20 mm: each fit starts close to its answer.
+      double longest = 0;
+      for (std::size_t c = 0; c < to.size(); ++c)
+        longest = std::max(longest, (to[c] - from[c]).norm());
+      const int steps = std::clamp(static_cast<int>(std::ceil(longest / 20.0)), 8, 100);
+      for (int step = 1; step <= steps; ++step) {
+        const double s = static_cast<double>(step) / steps;
+        functor->drag_gap.clear();
+        for (std::size_t c = 0; c < to.size(); ++c)
+          functor->drag_gap.push_back((1 - s) * from[c] + s * to[c]);
+        // Orientation matters more as the end arrives: it is aligned by the time it is there.
+        double left = 0, first = 0;
+        for (std::size_t c = 0; c < to.size(); ++c) {
+          left = std::max(left, functor->drag_gap[c].norm());
+          first = std::max(first, path.front()[c].norm());
+        }
+        const double keep = first > 0 ? std::min(1.0, left / first) : 0.0;
+        solve(kPhaseOneRotationWeight + (1 - kPhaseOneRotationWeight) * (1 - keep) * (1 - keep));
+        if (options.deadline && std::chrono::steady_clock::now() > *options.deadline) break;
+      }
+      from = to;
     }
     functor->drag_gap.clear();
     solver_options.max_num_iterations = saved;
     solve(kPhaseOneRotationWeight);
     solve(1.0);
     return keep_if_best();
+  };
+  // The position gap of each closure at the current configuration; with `halfway`, also the
+  // gap that leaves the chain's end halfway between its anchor and its root (the first
+  // connection on its path up to a fixed part: the chain's other end).
+  auto current_gaps = [&](std::vector<Vec3>* halfway) {
+    load_start(0);
+    std::vector<double> x(x0);
+    for (std::size_t k = 0; k < m; ++k) x[static_cast<std::size_t>(layout.variables[k])] = z[k];
+    std::vector<Vec3> gaps;
+    for (ConnectionId id : layout.closures) {
+      const auto [f1, f2] = assembly.connection_frames<double>(id, x.data());
+      gaps.push_back(f1.t - f2.t);
+      if (!halfway) continue;
+      // The side that hangs from a root moves to the midpoint; the other is the anchor.
+      const Connection& c = assembly.connection(id);
+      auto root_of = [&](PartId p) -> std::optional<Vec3> {
+        ConnectionId top;
+        for (PartId q = p; assembly.parent(q).valid(); q = assembly.connection(top).first.part) {
+          top = assembly.parent(q);
+        }
+        if (!top.valid()) return std::nullopt;
+        return assembly.connection_frames<double>(top, x.data()).first.t;
+      };
+      if (const auto root = root_of(c.first.part)) {
+        halfway->push_back(0.5 * (*root - f2.t));  // f1 at (root + f2) / 2
+      } else if (const auto other = root_of(c.second.part)) {
+        halfway->push_back(0.5 * (f1.t - *other));  // f2 at (root + f1) / 2
+      } else {
+        halfway->push_back(Vec3::Zero());
+      }
+    }
+    return gaps;
+  };
+  // The drag start: from the current configuration, pull each open end to its anchor along a
+  // straight line in small steps, as a person would pull a chain taut, then close fully. Long
+  // chains whose random starts fold up close this way (a 16-hook span the random starts miss).
+  auto drag = [&] {
+    const std::vector<Vec3> gap0 = current_gaps(nullptr);
+    return drag_along({gap0, std::vector<Vec3>(gap0.size(), Vec3::Zero())});
+  };
+  // The stretching start, for chains nearly taut between their ends: the end is first pulled
+  // to halfway between the chain's root and its anchor, then out along that line, so that the
+  // chain straightens towards the line between its two ends as the span grows.
+  auto stretch = [&] {
+    std::vector<Vec3> halfway;
+    const std::vector<Vec3> gap0 = current_gaps(&halfway);
+    // Near taut the closure is nearly singular: Levenberg-Marquardt creeps there, surely but
+    // slowly, so this start is neither stopped when it stalls nor held to a start's iterations.
+    stall.stop_stalled = false;
+    const int saved = solver_options.max_num_iterations;
+    solver_options.max_num_iterations = kStretchIterations;
+    const bool closed = drag_along({gap0, halfway, std::vector<Vec3>(gap0.size(), Vec3::Zero())});
+    solver_options.max_num_iterations = saved;
+    stall.stop_stalled = true;
+    return closed;
   };
 
   const int starts = std::max(1, options.restarts);
@@ -403,6 +467,10 @@ ClosureResult close_cycles(const Assembly& assembly,
     }
     if (two_phase()) break;
   }
+  const bool out_of_time = options.deadline && std::chrono::steady_clock::now() > *options.deadline;
+  // Not counted among the starts: it is the last resort of every search, whatever its
+  // number of random starts.
+  if (best > options.tolerance && options.stretch_start && !out_of_time) stretch();
   result.closed = best <= options.tolerance;
   return result;
 }

@@ -107,6 +107,7 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
       // phases, stall detection) usually gets there.
       VerifyOptions v;
       v.restarts = 1;
+      v.stretch_start = false;
       v.deadline = o.deadline;
       const ClosureResult closed = close_cycles(a, x0, v);
       if (!closed.closed) continue;

@@ -225,13 +225,22 @@ TEST(Physics, TheOrderOfConnectsDoesNotMatter) {
 // A chain of S-hooks between two rods, the right rod the left one turned half a turn about the
 // vertical through the middle (so the design is the same seen from either side), built from
 // the left or from the right: the same chain, the same answer.
-std::string chain_between_rods(int hooks, bool from_left) {
-  std::string s =
+std::string chain_between_rods(int hooks,
+                               bool from_left,
+                               const Vec3& left = Vec3(-200, 0, 500),
+                               const Vec3& right = Vec3(200, 0, 500)) {
+  std::string s = fmt::format(
       "fabkit: hacks/1\nname: chain\nenvironment:\n"
-      "  - {name: left, primitives: {rod: {type: rod, radius: 4, length: 300}}, "
-      "frame: {pos: [-200, 0, 500], rot: [90, 0, 0]}}\n"
-      "  - {name: right, primitives: {rod: {type: rod, radius: 4, length: 300}}, "
-      "frame: {pos: [200, 0, 500], rot: [90, 0, 180]}}\nparts:\n";
+      "  - {{name: left, primitives: {{rod: {{type: rod, radius: 4, length: 300}}}}, "
+      "frame: {{pos: [{}, {}, {}], rot: [90, 0, 0]}}}}\n"
+      "  - {{name: right, primitives: {{rod: {{type: rod, radius: 4, length: 300}}}}, "
+      "frame: {{pos: [{}, {}, {}], rot: [90, 0, 180]}}}}\nparts:\n",
+      left.x(),
+      left.y(),
+      left.z(),
+      right.x(),
+      right.y(),
+      right.z());
   for (int i = 1; i <= hooks; ++i)
     s += "  - {name: s" + std::to_string(i) + ", part: DoubleHook}\n";
   const std::string start = from_left ? "left" : "right";
@@ -321,10 +330,10 @@ TEST(Physics, AChainOfHooksHangsPlumb) {
 // A chain long enough to span two wall hooks is found to span them, and hangs from both with
 // its lowest link near the middle: 16 and 18 S-hooks (reaching about 680 and 760 mm) between
 // hooks 605.5 mm apart, where the closure search used to leave a gap of hundreds of mm
-// (issue 9, item 4). Not yet here: 15 hooks (reaching about 636 mm, 95 % taut), whose
-// closure is still not found.
+// (issue 9, item 4), and 15 (reaching about 636 mm: 95 % taut), closed by the stretching
+// start.
 TEST(Physics, AChainLongEnoughToSpanTwoHooksSpansThem) {
-  for (int hooks : {16, 18}) {
+  for (int hooks : {15, 16, 18}) {
     SCOPED_TRACE(hooks);
     std::string s =
         "fabkit: hacks/1\nname: span\nenvironment:\n  - name: wall\n"
@@ -528,10 +537,12 @@ std::string mirrored_design(const std::string& yaml) {
 // the mirrored design is built of the same parts.
 TEST(Physics, AMirroredDesignRestsAsTheMirrorImage) {
   // Chains between two rods, built from either end: mirrored, the chain starts from the rod on
-  // the other side. Not yet here: the same chain between rods at different heights (−200/500
-  // and 150/620), whose mirror image the closure search does not close (a 1.7 mm gap after
-  // 16 starts; issue 9, item 4).
-  for (const std::string& yaml : {chain_between_rods(10, true), chain_between_rods(11, false)}) {
+  // the other side; and between rods at different heights, whose mirror image the closure
+  // search used to leave open (a 1.7 mm gap after 16 starts; issue 9, item 4).
+  for (const std::string& yaml :
+       {chain_between_rods(10, true),
+        chain_between_rods(11, false),
+        chain_between_rods(11, true, Vec3(-200, 0, 500), Vec3(150, 0, 620))}) {
     const Outcome a = solve_text(yaml);
     const Outcome b = solve_text(mirrored_design(yaml));
     EXPECT_TRUE(a.stable) << a.summary;

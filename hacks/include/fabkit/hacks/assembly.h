@@ -46,6 +46,9 @@ struct VerifyOptions {
   double tolerance = 1e-6;   ///< closed when Σ‖f‖² is below this (mm², deg²)
   int max_iterations = 100;  ///< per start
   bool quick_reject = true;  ///< polygon-inequality check before the search
+  /// When every start misses, a last one that pulls each chain out along the line between
+  /// its two ends (nearly taut chains); off where a miss is cheap (step 1's restarts).
+  bool stretch_start = true;
   /// Give up the search once this time has passed (servers); none: no limit.
   std::optional<std::chrono::steady_clock::time_point> deadline;
 };
