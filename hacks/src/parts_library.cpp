@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <mutex>
 #include <optional>
 #include <set>
+#include <stdexcept>
 
 #include "fabkit/core/file_io.h"
 #include "fabkit/core/mesh_io.h"
@@ -54,12 +56,15 @@ class PartFileReader {
       : base_dir_(std::move(base_dir)), library_(library), in_(std::move(display_name), diags) {}
 
   struct Entry {
-    Part part;
+    Part part;  ///< with `contents`, only its name, description and category
     std::vector<std::string> aliases;
+    std::optional<YAML::Node> contents;  ///< the entry, when its contents are read later
   };
 
-  // Parsed parts, or nullopt if anything was wrong.
-  std::optional<std::vector<Entry>> read(std::string_view text) {
+  // Parsed parts, or nullopt if anything was wrong. With `defer_contents` each part's
+  // identity (name, aliases, description, category) is read and checked now, its contents
+  // (primitives, mesh, body, mass) when read_contents() is called for it.
+  std::optional<std::vector<Entry>> read(std::string_view text, bool defer_contents = false) {
     const auto root = in_.parse_mapping(text, "a 'parts' list");
     if (!root) return std::nullopt;
     in_.check_keys(*root, {"fabkit", "parts"}, "a part file");
@@ -69,9 +74,18 @@ class PartFileReader {
     } else if (!parts.IsSequence()) {
       in_.error(codes::kMalformedInput, "'parts' must be a list of parts", in_.at(parts));
     } else {
+      result_.reserve(parts.size());
       for (const YAML::Node& node : parts) {
         std::vector<std::string> aliases;
-        if (auto part = read_part(node, aliases)) result_.push_back({std::move(*part), aliases});
+        const int errors_before = in_.errors();
+        Part part;
+        std::string who;
+        if (!read_identity(node, part, aliases, who)) continue;
+        if (defer_contents) {
+          result_.push_back({std::move(part), std::move(aliases), node});
+        } else if (read_contents(node, part, who) && in_.errors() == errors_before) {
+          result_.push_back({std::move(part), std::move(aliases), std::nullopt});
+        }
       }
     }
     if (in_.errors() > 0) return std::nullopt;
@@ -79,14 +93,18 @@ class PartFileReader {
   }
 
  private:
-  std::optional<Part> read_part(const YAML::Node& node, std::vector<std::string>& aliases) {
+  // The part's name, aliases, description and category (checked against the library and
+  // this file); false if any is wrong.
+  bool read_identity(const YAML::Node& node,
+                     Part& part,
+                     std::vector<std::string>& aliases,
+                     std::string& who) {
     const int errors_before = in_.errors();
-    if (!in_.is_mapping(node, "each entry of 'parts'")) return std::nullopt;
+    if (!in_.is_mapping(node, "each entry of 'parts'")) return false;
     in_.check_keys(node, kPartKeys, "a part");
-    Part part;
     part.category = PartCategory::kOther;
 
-    std::string who = "part";
+    who = "part";
     if (const YAML::Node n = node["name"]; !n) {
       in_.error(codes::kMalformedInput, "part is missing required key 'name'", in_.at(node));
     } else if (const auto name = in_.string(n, "part name", 128)) {
@@ -151,6 +169,13 @@ class PartFileReader {
       }
     }
 
+    return in_.errors() == errors_before;
+  }
+
+ public:
+  // The rest of the part: primitives, mesh, body, mass properties; false if any is wrong.
+  bool read_contents(const YAML::Node& node, Part& part, const std::string& who) {
+    const int errors_before = in_.errors();
     // Primitives.
     if (const YAML::Node list = node["primitives"]; !list) {
       in_.error(codes::kMalformedInput,
@@ -225,7 +250,7 @@ class PartFileReader {
     if (const YAML::Node dp = node["draw_primitives"]) {
       draw_primitives = in_.boolean(dp, "draw_primitives").value_or(draw_primitives);
     }
-    if (in_.errors() > errors_before) return std::nullopt;
+    if (in_.errors() > errors_before) return false;
     if (draw_primitives) {
       for (const Primitive& p : part.primitives) part.mesh.append(primitive_mesh(p));
     }
@@ -258,15 +283,56 @@ class PartFileReader {
     } else {
       part.center_of_mass = part.mesh.centroid();
     }
-    if (in_.errors() > errors_before) return std::nullopt;
-    return part;
+    return in_.errors() == errors_before;
   }
 
+ private:
   std::filesystem::path base_dir_;
   const PartsLibrary& library_;
   YamlReader in_;
   std::set<std::string> names_;  // lower-case part (and alias) names defined in this file
   std::vector<Entry> result_;
+};
+
+// A part whose contents are read on first use (PartLoading::kOnFirstUse). One lock for all:
+// the entries share one YAML document, and yaml-cpp does not promise that two threads may
+// read one document at once.
+class DeferredPart {
+ public:
+  DeferredPart(std::string file, std::filesystem::path base_dir, YAML::Node node, Part identity)
+      : file_(std::move(file)),
+        base_dir_(std::move(base_dir)),
+        node_(std::move(node)),
+        identity_(std::move(identity)) {}
+
+  Part get() {
+    static std::mutex lock;
+    const std::lock_guard<std::mutex> held(lock);
+    if (!part_) {
+      Diagnostics diags;
+      const PartsLibrary none;
+      PartFileReader reader(file_, base_dir_, none, diags);
+      Part part = identity_;
+      // Only files tested to load (the built-in one) are read so: a failure is a bug here.
+      if (!reader.read_contents(node_, part, identity_.type_name)) {
+        throw std::logic_error(fmt::format(
+            "{}: part {} did not load: {}",
+            file_,
+            identity_.type_name,
+            diags.empty() ? std::string("unknown error") : diags.items().front().format()));
+      }
+      part_ = std::move(part);
+      node_ = YAML::Node();
+    }
+    return *part_;
+  }
+
+ private:
+  std::string file_;
+  std::filesystem::path base_dir_;
+  YAML::Node node_;
+  Part identity_;
+  std::optional<Part> part_;
 };
 
 }  // namespace
@@ -414,19 +480,26 @@ bool PartsLibrary::load_yaml_text(std::string_view text,
                                   std::string_view display_name,
                                   const std::filesystem::path& base_dir,
                                   Diagnostics& diags,
-                                  PartCategory default_category) {
+                                  PartCategory default_category,
+                                  PartLoading loading) {
   PartFileReader reader(std::string(display_name), base_dir, *this, diags);
-  auto entries = reader.read(text);
+  auto entries = reader.read(text, loading == PartLoading::kOnFirstUse);
   if (!entries) return false;
-  for (auto& [part, aliases] : *entries) {
+  for (auto& [part, aliases, contents] : *entries) {
     if (part.category == PartCategory::kOther) part.category = default_category;
     PartGenerator g;
     g.name = part.type_name;
     g.aliases = aliases;
     g.description = part.description;
     g.category = part.category;
-    auto shared = std::make_shared<const Part>(std::move(part));
-    g.build = [shared](const ParamValues&) { return *shared; };
+    if (!contents) {
+      auto shared = std::make_shared<const Part>(std::move(part));
+      g.build = [shared](const ParamValues&) { return *shared; };
+    } else {
+      g.build = [deferred = std::make_shared<DeferredPart>(
+                     std::string(display_name), base_dir, std::move(*contents), std::move(part))](
+                    const ParamValues&) { return deferred->get(); };
+    }
     add(std::move(g));
   }
   return true;

@@ -3,13 +3,17 @@
 
 #include "fabkit/hacks/parts_library.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "fabkit/hacks/diagnostic_codes.h"
 
@@ -379,6 +383,111 @@ TEST(PartsLibrary, BuiltinIsBuiltOnce) {
   EXPECT_EQ(&PartsLibrary::builtin(), &PartsLibrary::builtin());
   EXPECT_EQ(PartsLibrary::builtin().suggest("doublehok"), "DoubleHook");
   EXPECT_EQ(PartsLibrary::builtin().suggest("Turnbukle"), "Turnbuckle");
+}
+
+// A file read with PartLoading::kOnFirstUse gives the same parts as an eager read; mistakes in
+// a part's identity are still reported at once, mistakes in its contents when it is first made
+// (the contract of the built-in file, which is tested to load).
+TEST_F(PartFiles, OnFirstUseBuildsTheSamePartsWhenTheyAreMade) {
+  write_cube("cube.obj");
+  const std::string text =
+      "parts:\n"
+      "  - name: TestBracket\n"
+      "    description: a test bracket\n"
+      "    mesh: cube.obj\n"
+      "    category: hack\n"
+      "    primitives:\n"
+      "      - {name: hook, type: hook, arc_radius: 8, arc_angle: 200, thickness: 1.5}\n"
+      "  - name: BoxedPeg\n"
+      "    primitives:\n"
+      "      - {name: peg, type: rod, radius: 2, length: 30}\n"
+      "    body:\n"
+      "      - box: {min: [-5, -5, -20], max: [5, 5, -15]}\n";
+  PartsLibrary eager, later;
+  Diagnostics d1, d2;
+  ASSERT_TRUE(eager.load_yaml_text(text, "parts.yaml", dir_, d1)) << d1.format();
+  ASSERT_TRUE(later.load_yaml_text(
+      text, "parts.yaml", dir_, d2, PartCategory::kOther, PartLoading::kOnFirstUse))
+      << d2.format();
+  ASSERT_EQ(eager.generators().size(), later.generators().size());
+  for (const PartGenerator& g : eager.generators()) {
+    SCOPED_TRACE(g.name);
+    const PartGenerator* h = later.find(g.name);
+    ASSERT_NE(h, nullptr);
+    EXPECT_EQ(h->description, g.description);
+    EXPECT_EQ(h->category, g.category);
+    for (int twice = 0; twice < 2; ++twice) {
+      const Part a = g.build({});
+      const Part b = h->build({});
+      ASSERT_EQ(a.primitives.size(), b.primitives.size());
+      for (std::size_t i = 0; i < a.primitives.size(); ++i) {
+        EXPECT_EQ(a.primitives[i].describe(), b.primitives[i].describe());
+      }
+      EXPECT_EQ(a.mesh.vertices.size(), b.mesh.vertices.size());
+      EXPECT_EQ(a.mesh.faces.size(), b.mesh.faces.size());
+      EXPECT_EQ(a.collision_pieces.size(), b.collision_pieces.size());
+      EXPECT_DOUBLE_EQ(a.mass, b.mass);
+      EXPECT_LT((a.center_of_mass - b.center_of_mass).norm(), 1e-12);
+    }
+  }
+
+  // Identity mistakes: reported at load, nothing added.
+  PartsLibrary dup;
+  Diagnostics d3;
+  EXPECT_FALSE(dup.load_yaml_text("parts:\n" + kGood + kGood,
+                                  "dup.yaml",
+                                  dir_,
+                                  d3,
+                                  PartCategory::kOther,
+                                  PartLoading::kOnFirstUse));
+  ASSERT_FALSE(d3.empty());
+  EXPECT_EQ(d3.items().front().code, codes::kDuplicateName);
+  EXPECT_TRUE(dup.generators().empty());
+
+  // A contents mistake surfaces when the part is made, naming the file, the part and the value.
+  PartsLibrary bad;
+  Diagnostics d4;
+  ASSERT_TRUE(
+      bad.load_yaml_text("parts:\n  - name: NegRadius\n    primitives:\n"
+                         "      - {name: peg, type: rod, radius: -3, length: 10}\n",
+                         "neg.yaml",
+                         dir_,
+                         d4,
+                         PartCategory::kOther,
+                         PartLoading::kOnFirstUse));
+  try {
+    bad.find("NegRadius")->build({});
+    ADD_FAILURE() << "a part with a negative radius was built";
+  } catch (const std::logic_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("neg.yaml"), std::string::npos) << what;
+    EXPECT_NE(what.find("NegRadius"), std::string::npos) << what;
+    EXPECT_NE(what.find("-3"), std::string::npos) << what;
+  }
+}
+
+// The built-in parts are built on first use, under one lock: threads that make them at once
+// (the server's workers) get the same parts.
+TEST(PartsLibrary, BuiltinPartsMadeFromTwoThreadsAreTheSame) {
+  const PartsLibrary& lib = PartsLibrary::builtin();
+  auto describe_all = [&] {
+    std::vector<std::string> out;
+    for (const PartGenerator& g : lib.generators()) {
+      if (!g.params.empty()) continue;
+      const Part p = g.build({});
+      std::string d = g.name + fmt::format(" {:.12g}", p.mass);
+      for (const Primitive& prim : p.primitives) d += " " + prim.describe();
+      out.push_back(std::move(d));
+    }
+    return out;
+  };
+  std::vector<std::string> first, second;
+  std::thread a([&] { first = describe_all(); });
+  std::thread b([&] { second = describe_all(); });
+  a.join();
+  b.join();
+  EXPECT_EQ(first.size(), 54u);
+  EXPECT_EQ(first, second);
 }
 
 }  // namespace

@@ -36,6 +36,11 @@ struct PartGenerator {
   std::function<Part(const ParamValues&)> build;
 };
 
+/// When a part file's parts are read: all of each part now (user files: every mistake is
+/// reported at once), or its identity now and its contents when the part is first made (the
+/// built-in file, tested to load: a process that uses three parts builds three).
+enum class PartLoading { kEager, kOnFirstUse };
+
 class PartsLibrary {
  public:
   /// Every part of the paper's library (reference §10.2) plus ParamTurnbuckle / ParamHanger.
@@ -58,12 +63,15 @@ class PartsLibrary {
   /// file:line diagnostics and add nothing. Relative mesh paths resolve against the file.
   bool load_yaml(const std::filesystem::path& path, Diagnostics& diags);
   /// Same from text; `display_name` names it in diagnostics, mesh paths resolve against
-  /// `base_dir`. Parts without a category get `default_category`.
+  /// `base_dir`. Parts without a category get `default_category`. With
+  /// PartLoading::kOnFirstUse only the parts' identities are checked here; a mistake in a
+  /// part's contents then throws std::logic_error when the part is first made.
   bool load_yaml_text(std::string_view text,
                       std::string_view display_name,
                       const std::filesystem::path& base_dir,
                       Diagnostics& diags,
-                      PartCategory default_category = PartCategory::kOther);
+                      PartCategory default_category = PartCategory::kOther,
+                      PartLoading loading = PartLoading::kEager);
 
  private:
   std::vector<PartGenerator> generators_;
