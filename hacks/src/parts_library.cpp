@@ -77,13 +77,12 @@ class PartFileReader {
       result_.reserve(parts.size());
       for (const YAML::Node& node : parts) {
         std::vector<std::string> aliases;
-        const int errors_before = in_.errors();
         Part part;
         std::string who;
         if (!read_identity(node, part, aliases, who)) continue;
         if (defer_contents) {
           result_.push_back({std::move(part), std::move(aliases), node});
-        } else if (read_contents(node, part, who) && in_.errors() == errors_before) {
+        } else if (read_contents(node, part, who)) {
           result_.push_back({std::move(part), std::move(aliases), std::nullopt});
         }
       }
@@ -294,9 +293,9 @@ class PartFileReader {
   std::vector<Entry> result_;
 };
 
-// A part whose contents are read on first use (PartLoading::kOnFirstUse). One lock for all:
-// the entries share one YAML document, and yaml-cpp does not promise that two threads may
-// read one document at once.
+// A part whose contents are read on first use (PartLoading::kOnFirstUse), once; later uses
+// copy it without a lock. The reads share one lock: the entries share one YAML document, and
+// yaml-cpp does not promise that two threads may read one document at once.
 class DeferredPart {
  public:
   DeferredPart(std::string file, std::filesystem::path base_dir, YAML::Node node, Part identity)
@@ -306,9 +305,10 @@ class DeferredPart {
         identity_(std::move(identity)) {}
 
   Part get() {
-    static std::mutex lock;
-    const std::lock_guard<std::mutex> held(lock);
-    if (!part_) {
+    // A throw leaves the flag unset: the next use tries again, and throws again.
+    std::call_once(built_, [this] {
+      static std::mutex document;
+      const std::lock_guard<std::mutex> held(document);
       Diagnostics diags;
       const PartsLibrary none;
       PartFileReader reader(file_, base_dir_, none, diags);
@@ -323,7 +323,7 @@ class DeferredPart {
       }
       part_ = std::move(part);
       node_ = YAML::Node();
-    }
+    });
     return *part_;
   }
 
@@ -333,6 +333,7 @@ class DeferredPart {
   YAML::Node node_;
   Part identity_;
   std::optional<Part> part_;
+  std::once_flag built_;
 };
 
 }  // namespace
