@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "cycle_closure.h"
+#include "random.h"
 #include "steps.h"
 
 namespace fabkit::hacks::detail {
@@ -39,6 +41,42 @@ std::vector<bool> moving_parts(const Problem& p) {
   return moving;
 }
 
+// The tree connections between two parts, at most `per_side` of them from each part up
+// towards their common ancestor (or the environment), nearest the parts first.
+std::vector<ConnectionId> joints_between(const Assembly& a, PartId u, PartId v, int per_side) {
+  auto up = [&](PartId p) {
+    std::vector<ConnectionId> path;
+    for (PartId q = p; a.parent(q).valid();) {
+      const ConnectionId c = a.parent(q);
+      path.push_back(c);
+      const Connection& conn = a.connection(c);
+      q = conn.first.part == q ? conn.second.part : conn.first.part;
+    }
+    return path;
+  };
+  std::vector<ConnectionId> from_u = up(u);
+  std::vector<ConnectionId> from_v = up(v);
+  // Above the common ancestor both paths share their edges: they join nothing.
+  while (!from_u.empty() && !from_v.empty() && from_u.back() == from_v.back()) {
+    from_u.pop_back();
+    from_v.pop_back();
+  }
+  std::vector<ConnectionId> out;
+  for (const std::vector<ConnectionId>* path : {&from_u, &from_v}) {
+    const std::size_t keep = std::min(path->size(), static_cast<std::size_t>(per_side));
+    out.insert(out.end(), path->begin(), path->begin() + static_cast<std::ptrdiff_t>(keep));
+  }
+  return out;
+}
+
+// Unfolding (below): tries, the joints redrawn on each side of the overlapping pair, and the
+// stream of keyed draws they use (apart from the closure's and step 1's starts).
+constexpr int kUnfoldTries = 6;
+constexpr int kUnfoldJointsPerSide = 2;
+constexpr int kUnfoldStream = 1000;
+// A try counts only if it leaves the parts this much less deep in each other (mm).
+constexpr double kUnfoldGainMm = 0.05;
+
 }  // namespace
 
 void watch_contacts(Problem& p, const std::vector<double>& x) {
@@ -48,13 +86,18 @@ void watch_contacts(Problem& p, const std::vector<double>& x) {
       p.contacts->watched_pairs(p.assembly->part_frames(x), moving_parts(p), kContactWatchMm);
 }
 
-Overlap deepest_overlap(const Problem& p, const std::vector<double>& x) {
+Overlap deepest_overlap(const Problem& p, const std::vector<double>& x, bool parts_only) {
   Overlap out;
   if (!p.contacts) return out;
   std::vector<double> distances;
   const std::vector<PiecePair> near =
       p.contacts->watched_pairs(p.assembly->part_frames(x), moving_parts(p), 0.0, &distances);
+  const Assembly& a = *p.assembly;
   for (std::size_t k = 0; k < near.size(); ++k) {
+    if (parts_only && (a.node(PartId{near[k].part_a}).environment ||
+                       a.node(PartId{near[k].part_b}).environment)) {
+      continue;
+    }
     if (-distances[k] > out.depth) out = {-distances[k], near[k]};
   }
   return out;
@@ -84,20 +127,91 @@ StepResult run_step2(Problem& p,
     out.x = x1;
     return out;
   }
-  return avoiding_contacts(
-      p,
-      x1,
-      [&](const Problem& q, const std::vector<double>& from) {
-        AssemblySolver solver(q, vars, from, Objective::kEnergy, o.deadline);
-        StepResult r = solver.relax(from, iterations_for(q, o));
-        if (!r.closed && !q.watched.empty()) {
-          // Parts that overlap too deeply for one projection are pulled apart first.
-          std::vector<double> apart = from;
-          if (solver.close(apart, 100)) r = solver.relax(apart, iterations_for(q, o));
+  auto run = [&](const Problem& q, const std::vector<double>& from) {
+    AssemblySolver solver(q, vars, from, Objective::kEnergy, o.deadline);
+    StepResult r = solver.relax(from, iterations_for(q, o));
+    if (!r.closed && !q.watched.empty()) {
+      // Parts that overlap too deeply for one projection are pulled apart first.
+      std::vector<double> apart = from;
+      if (solver.close(apart, 100)) r = solver.relax(apart, iterations_for(q, o));
+    }
+    return r;
+  };
+  // A relaxation that ends with two parts deep inside each other has most often started from
+  // a closure that folds a link back over its neighbour (a chain of S-hooks slack between two
+  // hooks: the cycle search closes it anyhow, and the fold is a rest state of the joints
+  // alone). No local step with contact rows undoes a fold — the parts would have to pass
+  // through each other — so the joints next to the deepest overlap are redrawn (keyed
+  // draws: the same design, the same tries), the cycles closed again from there and the plain
+  // relaxation rerun; a try is kept when the overlap shrinks, and the next starts from it.
+  std::vector<char> is_variable(p.assembly->values().size(), 0);
+  for (int index : vars.index) is_variable[static_cast<std::size_t>(index)] = 1;
+  auto unfold = [&](const Problem& q, const StepResult& plain, double depth, bool environment) {
+    std::optional<std::pair<StepResult, double>> best;
+    const Assembly& a = *q.assembly;
+    const StepResult* current = &plain;
+    for (int attempt = 0; attempt < kUnfoldTries && depth > kPenetrationToleranceMm; ++attempt) {
+      if (past_deadline(q, o)) break;
+      // Parts inside each other are unfolded first, and then only those pairs; a part in an
+      // environment's way (a mug through the wall it hangs by) is what the contact rows are
+      // for — it comes to rest against it, as built — and is unfolded only if they fail.
+      const Overlap at = deepest_overlap(q, current->x, !environment);
+      if (at.depth <= kPenetrationToleranceMm) break;
+      std::vector<double> x = current->x;
+      bool redrawn = false;
+      for (ConnectionId c : joints_between(
+               a, PartId{at.pair.part_a}, PartId{at.pair.part_b}, kUnfoldJointsPerSide)) {
+        const Connection& conn = a.connection(c);
+        for (const Connector* side : {&conn.first, &conn.second}) {
+          for (std::size_t i = 0; i < side->params.size(); ++i) {
+            const auto index = static_cast<std::size_t>(side->offset) + i;
+            if (!is_variable[index]) continue;
+            const ParamSpec& s = a.parameters()[index].spec;
+            x[index] = s.lo + keyed_uniform(o.seed,
+                                            kUnfoldStream + attempt,
+                                            a.parameter_key(static_cast<int>(index))) *
+                                  (s.hi - s.lo);
+            redrawn = true;
+          }
         }
-        return r;
-      },
-      o);
+      }
+      if (!redrawn) break;
+      // Closed again by step 2's own variables (what it holds — fixed joints, clip jaws —
+      // stays as it is); the verification's search, which may move anything of the group,
+      // only when that fails, and its closure only if it moved nothing step 2 holds.
+      AssemblySolver closer(q, vars, x, Objective::kEnergy, o.deadline);
+      if (!closer.close(x, 100)) {
+        VerifyOptions closing;
+        closing.restarts = 1;
+        closing.stretch_start = false;
+        closing.seed = o.seed;
+        closing.deadline = o.deadline;
+        const ClosureResult closed = close_cycles(a, x, closing, q.group);
+        bool held = closed.closed;
+        for (std::size_t i = 0; i < x.size() && held; ++i) {
+          held = is_variable[i] || closed.x[i] == x[i];
+        }
+        if (!held) continue;
+        x = closed.x;
+      }
+      StepResult tried = run(q, x);
+      // A long slack chain can use up a run's iterations a few short of rest (its trust
+      // region shrunk on the way): a second run from there, with a fresh one, gets there.
+      if (tried.closed && !tried.converged && !past_deadline(q, o)) {
+        StepResult more = run(q, tried.x);
+        if (more.closed) tried = std::move(more);
+      }
+      if (!tried.closed) continue;
+      const double d = deepest_overlap(q, tried.x).depth;
+      if (d < depth - kUnfoldGainMm) {
+        best.emplace(std::move(tried), d);
+        current = &best->first;
+        depth = d;
+      }
+    }
+    return best;
+  };
+  return avoiding_contacts(p, x1, run, o, unfold);
 }
 
 StabilityReport check_stability(const Problem& p,

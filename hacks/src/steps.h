@@ -4,8 +4,10 @@
 // step 2 relaxes under gravity (Newton on the potential), the verdict finds what slips.
 
 #include <chrono>
+#include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fabkit/hacks/solve.h"
@@ -96,7 +98,8 @@ struct Overlap {
   double depth = 0;
   PiecePair pair;
 };
-Overlap deepest_overlap(const Problem& p, const std::vector<double>& x);
+/// With `parts_only`, only pairs of two parts that are not environments count.
+Overlap deepest_overlap(const Problem& p, const std::vector<double>& x, bool parts_only = false);
 
 /// Whether the solve's deadline has passed (or was called by a step that could not finish).
 inline bool past_deadline(const Problem& p, const SolveOptions& o) {
@@ -129,24 +132,48 @@ StepResult with_contacts(Problem& p, const std::vector<double>& x, Run run) {
 /// each other is run again from `x` with the contacts watched.
 /// Past the deadline the plain run's result stands: the contact queries after it cost
 /// milliseconds on a long chain, and a result cut by the deadline is never called stable.
+/// With `unfold`, a plain result where parts pass through each other is also handed to it:
+/// unfold(problem, result, depth, environment) → a result (contact rows off) and its depth, or
+/// none. Parts inside each other go to it before the contact rows; a part inside an
+/// environment (`environment` true) only when the contact rows do not bring it to rest apart.
+template <class Run, class Unfold>
+StepResult avoiding_contacts(
+    Problem& p, const std::vector<double>& x, Run run, const SolveOptions& o, Unfold unfold) {
+  p.watched.clear();
+  StepResult r = run(p, x);
+  if (!p.contacts || !r.closed) return r;
+  if (past_deadline(p, o)) return r;
+  double plain = deepest_overlap(p, r.x).depth;
+  if (plain <= kPenetrationToleranceMm) return r;
+  if (auto unfolded = unfold(p, r, plain, false)) {
+    r = std::move(unfolded->first);
+    plain = unfolded->second;
+    if (plain <= kPenetrationToleranceMm || past_deadline(p, o)) return r;
+  }
+  Problem kept = p;
+  StepResult apart = with_contacts(kept, x, run);
+  const double apart_depth =
+      apart.closed ? deepest_overlap(kept, apart.x).depth : std::numeric_limits<double>::infinity();
+  if (!(apart.converged && apart_depth <= kPenetrationToleranceMm) && !past_deadline(p, o)) {
+    if (auto unfolded = unfold(p, r, plain, true)) {
+      if (unfolded->second <= kPenetrationToleranceMm) return std::move(unfolded->first);
+    }
+  }
+  // Contact rows are bounded in cost; when they leave the parts deeper in each other than
+  // the plain run did, the plain run's result stands (and the verdict reports the overlap).
+  if (!apart.closed || apart_depth >= plain) return r;
+  p = std::move(kept);
+  return apart;
+}
+
 template <class Run>
 StepResult avoiding_contacts(Problem& p,
                              const std::vector<double>& x,
                              Run run,
                              const SolveOptions& o) {
-  p.watched.clear();
-  StepResult r = run(p, x);
-  if (!p.contacts || !r.closed) return r;
-  if (past_deadline(p, o)) return r;
-  const double plain = deepest_overlap(p, r.x).depth;
-  if (plain <= kPenetrationToleranceMm) return r;
-  Problem kept = p;
-  StepResult apart = with_contacts(kept, x, run);
-  // Contact rows are bounded in cost; when they leave the parts deeper in each other than
-  // the plain run did, the plain run's result stands (and the verdict reports the overlap).
-  if (!apart.closed || deepest_overlap(kept, apart.x).depth >= plain) return r;
-  p = std::move(kept);
-  return apart;
+  return avoiding_contacts(p, x, run, o, [](const Problem&, const StepResult&, double, bool) {
+    return std::optional<std::pair<StepResult, double>>();
+  });
 }
 
 /// Step 2: relaxation under gravity from step 1's configuration. With a contact model, pairs
