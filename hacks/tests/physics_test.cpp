@@ -275,6 +275,31 @@ TEST(Physics, ASymmetricChainRestsTheSameFromEitherEnd) {
   }
 }
 
+// Rods at different heights (the right one 80 mm lower): built from either end, the chain is
+// the same chain and rests in the same place — hook i from the left where hook i from the left
+// of the other build is — stable, with its lowest point on the lower rod's side.
+TEST(Physics, AnUnevenChainRestsTheSameFromEitherEnd) {
+  for (int hooks : {10, 12}) {
+    SCOPED_TRACE(hooks);
+    const Vec3 left(-200, 0, 500);
+    const Vec3 right(200, 0, 420);
+    const Outcome l = solve_text(chain_between_rods(hooks, true, left, right));
+    const Outcome r = solve_text(chain_between_rods(hooks, false, left, right));
+    EXPECT_TRUE(l.stable) << l.summary;
+    EXPECT_TRUE(r.stable) << r.summary;
+    ASSERT_EQ(l.positions.size(), static_cast<std::size_t>(hooks + 2));
+    ASSERT_EQ(r.positions.size(), l.positions.size());
+    std::size_t lowest = 2;
+    for (int i = 1; i <= hooks; ++i) {
+      const Vec3& from_left = l.positions[static_cast<std::size_t>(i + 1)];
+      const Vec3& from_right = r.positions[static_cast<std::size_t>(hooks - i + 2)];
+      EXPECT_LT((from_left - from_right).norm(), 1.0) << "hook " << i;
+      if (from_left.z() < l.positions[lowest].z()) lowest = static_cast<std::size_t>(i + 1);
+    }
+    EXPECT_GT(l.positions[lowest].x(), 0.0) << l.summary;
+  }
+}
+
 // Twelve to fourteen S-hooks are longer than the 400 mm between the rods: the cycle search
 // closes such a slack chain with links folded back over their neighbours (through each other,
 // 4 mm deep), a rest state of the joints alone that no local step undoes. What a real chain
