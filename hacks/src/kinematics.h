@@ -44,6 +44,9 @@ struct Problem {
   /// The solve's deadline, shared by its problems: a step that could not finish before it
   /// calls it, and every later step sees it. None: only SolveOptions::deadline is looked at.
   std::shared_ptr<const StopClock> stop;
+  /// Step 2's tries at unfolding (step2.cpp) left to the relaxations of this problem and its
+  /// copies (one group's candidates share them). None: each relaxation gets its own.
+  std::shared_ptr<int> unfold_tries;
   /// Whether connection `c` moves parts of this problem's group.
   bool covers(const Assembly& a, ConnectionId c) const;
 };

@@ -187,6 +187,7 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   for (int g = 0; g < groups; ++g) {
     Problem problem = make_problem(assembly, g);
     problem.stop = stop;
+    problem.unfold_tries = std::make_shared<int>(kUnfoldTriesPerGroup);
     if (g != target_group) {
       outcomes[static_cast<std::size_t>(g)] = relax_and_judge(problem, step1.x);
       continue;

@@ -72,6 +72,10 @@ std::vector<ConnectionId> joints_between(const Assembly& a, PartId u, PartId v, 
 // Unfolding (below): tries, the joints redrawn on each side of the overlapping pair, and the
 // stream of keyed draws they use (apart from the closure's and step 1's starts).
 constexpr int kUnfoldTries = 6;
+// Tries in a row that leave the overlap as deep end the unfolding: a fold comes undone in
+// one or two; parts that stay inside each other try after try are not folded (the reading
+// nook's crossed chains, a caddy inside its seat back), and each try costs a relaxation.
+constexpr int kUnfoldMisses = 3;
 constexpr int kUnfoldJointsPerSide = 2;
 constexpr int kUnfoldStream = 1000;
 // A try counts only if it leaves the parts this much less deep in each other (mm).
@@ -150,7 +154,13 @@ StepResult run_step2(Problem& p,
     std::optional<std::pair<StepResult, double>> best;
     const Assembly& a = *q.assembly;
     const StepResult* current = &plain;
-    for (int attempt = 0; attempt < kUnfoldTries && depth > kPenetrationToleranceMm; ++attempt) {
+    int misses = 0;
+    // Apart, and at rest: a try that comes apart without coming to rest is kept, but the
+    // tries go on for one that does both.
+    auto done = [&] { return depth <= kPenetrationToleranceMm && best && best->first.converged; };
+    for (int attempt = 0; attempt < kUnfoldTries && misses < kUnfoldMisses &&
+                          (depth > kPenetrationToleranceMm || !done());
+         ++attempt) {
       if (past_deadline(q, o)) break;
       // Parts inside each other are unfolded first, and then only those pairs; a part in an
       // environment's way (a mug through the wall it hangs by) is what the contact rows are
@@ -176,6 +186,11 @@ StepResult run_step2(Problem& p,
         }
       }
       if (!redrawn) break;
+      if (q.unfold_tries) {
+        if (*q.unfold_tries <= 0) break;
+        --*q.unfold_tries;
+      }
+      ++misses;  // until the try is kept
       // Closed again by step 2's own variables (what it holds — fixed joints, clip jaws —
       // stays as it is); the verification's search, which may move anything of the group,
       // only when that fails, and its closure only if it moved nothing step 2 holds.
@@ -195,18 +210,20 @@ StepResult run_step2(Problem& p,
         x = closed.x;
       }
       StepResult tried = run(q, x);
-      // A long slack chain can use up a run's iterations a few short of rest (its trust
-      // region shrunk on the way): a second run from there, with a fresh one, gets there.
+      // A long slack chain can use up a run's iterations short of rest (joints at their
+      // bounds let go and caught again keep the steps short): a second run goes on from there.
       if (tried.closed && !tried.converged && !past_deadline(q, o)) {
         StepResult more = run(q, tried.x);
         if (more.closed) tried = std::move(more);
       }
       if (!tried.closed) continue;
       const double d = deepest_overlap(q, tried.x).depth;
-      if (d < depth - kUnfoldGainMm) {
+      const bool rests_apart = d <= kPenetrationToleranceMm && tried.converged;
+      if (d < depth - kUnfoldGainMm || (rests_apart && !done())) {
         best.emplace(std::move(tried), d);
         current = &best->first;
         depth = d;
+        misses = 0;
       }
     }
     return best;

@@ -101,6 +101,11 @@ struct Overlap {
 /// With `parts_only`, only pairs of two parts that are not environments count.
 Overlap deepest_overlap(const Problem& p, const std::vector<double>& x, bool parts_only = false);
 
+/// Step 2's tries at unfolding per movable group, for all the candidates it relaxes: a group
+/// whose every candidate passes through something (the reading nook's crossed chains) would
+/// otherwise pay a relaxation per try per candidate.
+inline constexpr int kUnfoldTriesPerGroup = 8;
+
 /// Whether the solve's deadline has passed (or was called by a step that could not finish).
 inline bool past_deadline(const Problem& p, const SolveOptions& o) {
   if (p.stop) return p.stop->passed();
