@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "../hacks/tests/span_design.h"
 #include "fabkit/hacks/design_file.h"
 #include "fabkit/hacks/solve.h"
 
@@ -159,19 +160,7 @@ BENCHMARK(independent_cycles)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Unit(benchmark::k
 // step 2 unfolds them (docs/hacks.md, step 2).
 void slack_span(benchmark::State& state) {
   const int hooks = static_cast<int>(state.range(0));
-  std::string s =
-      "fabkit: hacks/1\nname: span\nenvironment:\n  - name: wall\n"
-      "    frame: {pos: [0, 0, 1000], rot: [0, 0, 0]}\n    primitives:\n"
-      "      hook1: {type: hook, arc_radius: 12.5, arc_angle: 120, thickness: 1.25, "
-      "frame: {pos: [15, -302.75, 0], rot: [30, 0, 90]}}\n"
-      "      hook2: {type: hook, arc_radius: 12.5, arc_angle: 120, thickness: 1.25, "
-      "frame: {pos: [15, 302.75, 0], rot: [30, 0, 90]}}\nparts:\n";
-  for (int i = 1; i <= hooks; ++i) s += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
-  s += "connections:\n  - connect: [s1.hook1, wall.hook1]\n";
-  for (int i = 2; i <= hooks; ++i)
-    s += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
-  s += fmt::format("  - connect: [s{}.hook2, wall.hook2]\n", hooks);
-  time_solve(state, s, "span");
+  time_solve(state, testing_designs::span_between_wall_hooks(hooks), "span");
 }
 BENCHMARK(slack_span)->Arg(15)->Arg(20)->Arg(24)->Arg(28)->Unit(benchmark::kMillisecond);
 

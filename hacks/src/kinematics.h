@@ -317,6 +317,15 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
           frames[static_cast<std::size_t>(problem_.target->part.value)].then(problem_.target->base);
     }
 
+    // Contact rows are filled after the loop over parameters, row by row (a long chain has
+    // thousands of them: written column by column, every entry was a cache miss); each
+    // parameter's twist and what it moves are kept for them.
+    std::vector<Twist> contact_tau;
+    std::vector<const std::vector<char>*> contact_below;
+    if (!near.empty()) {
+      contact_tau.resize(static_cast<std::size_t>(n_));
+      contact_below.assign(static_cast<std::size_t>(n_), nullptr);
+    }
     for (int k = 0; k < n_; ++k) {
       const Slot& slot = slots_[static_cast<std::size_t>(k)];
       const Connection& c = a.connections()[static_cast<std::size_t>(slot.connection)];
@@ -360,12 +369,9 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
           const Twist t2 = moves(cf[i].part2) ? tau : Twist{};
           row = closure_derivative(i, cf[i].f1, cf[i].f2, t1, t2, row, put);
         }
-        // Contact rows: d(−distance) = −n·(v_b(p_b) − v_a(p_a)).
-        for (const Near& touch : near) {
-          const PiecePair& w = *touch.pair;
-          const Vec3 va = moves(w.part_a) ? tau.velocity(touch.at.point_a) : Vec3::Zero();
-          const Vec3 vb = moves(w.part_b) ? tau.velocity(touch.at.point_b) : Vec3::Zero();
-          put(static_cast<int>(touch.row), -touch.at.normal.dot(vb - va));
+        if (!near.empty()) {
+          contact_tau[static_cast<std::size_t>(k)] = tau;
+          contact_below[static_cast<std::size_t>(k)] = &below;
         }
       } else {
         // A cycle-closing connection's own parameter moves only its connector frame.
@@ -376,6 +382,23 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
           const Twist t2 = mine && !slot.first ? spatial : Twist{};
           row = closure_derivative(i, cf[i].f1, cf[i].f2, t1, t2, row, put);
         }
+      }
+    }
+    // Contact rows: d(−distance) = −n·(v_b(p_b) − v_a(p_a)), for the tree parameters.
+    for (const Near& touch : near) {
+      const PiecePair& w = *touch.pair;
+      double* row = jacobian_.data() + touch.row * static_cast<std::size_t>(n_);
+      for (int k = 0; k < n_; ++k) {
+        const std::vector<char>* below = contact_below[static_cast<std::size_t>(k)];
+        if (!below) continue;
+        const Twist& tau = contact_tau[static_cast<std::size_t>(k)];
+        const Vec3 va = (*below)[static_cast<std::size_t>(w.part_a)] != 0
+                            ? tau.velocity(touch.at.point_a)
+                            : Vec3::Zero();
+        const Vec3 vb = (*below)[static_cast<std::size_t>(w.part_b)] != 0
+                            ? tau.velocity(touch.at.point_b)
+                            : Vec3::Zero();
+        row[k] = -touch.at.normal.dot(vb - va) * slots_[static_cast<std::size_t>(k)].scale;
       }
     }
     // Spacing rows depend on the t parameters directly: row = -(Σ |Δt|·L - need).

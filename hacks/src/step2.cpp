@@ -158,9 +158,7 @@ StepResult run_step2(Problem& p,
     // Apart, and at rest: a try that comes apart without coming to rest is kept, but the
     // tries go on for one that does both.
     auto done = [&] { return depth <= kPenetrationToleranceMm && best && best->first.converged; };
-    for (int attempt = 0; attempt < kUnfoldTries && misses < kUnfoldMisses &&
-                          (depth > kPenetrationToleranceMm || !done());
-         ++attempt) {
+    for (int attempt = 0; attempt < kUnfoldTries && misses < kUnfoldMisses && !done(); ++attempt) {
       if (past_deadline(q, o)) break;
       // Parts inside each other are unfolded first, and then only those pairs; a part in an
       // environment's way (a mug through the wall it hangs by) is what the contact rows are

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "fabkit/hacks/solve.h"
+#include "span_design.h"
 #include "test_support.h"
 
 namespace fabkit::hacks {
@@ -320,7 +321,7 @@ TEST(Physics, ASlackChainBetweenRodsSagsUnfolded) {
       // Hook i counted from the left rod.
       std::vector<Vec3> sag;
       for (int i = 1; i <= hooks; ++i) {
-        const std::string name = "s" + std::to_string(from_left ? i : hooks + 1 - i);
+        const std::string name = fmt::format("s{}", from_left ? i : hooks + 1 - i);
         for (const SolvedPart& part : r.parts) {
           if (part.name == name) sag.push_back(part.frame.pos);
         }
@@ -331,8 +332,12 @@ TEST(Physics, ASlackChainBetweenRodsSagsUnfolded) {
         const double next = sag[static_cast<std::size_t>(i + 1)].z();
         EXPECT_LT(z, 500.0) << "hook " << i + 1 << " above the rods";
         // Lower towards the middle from either rod (the two middle hooks level).
-        if (i + 1 < hooks / 2) EXPECT_LT(next, z) << "hooks " << i + 1 << ", " << i + 2;
-        if (i >= hooks / 2) EXPECT_GT(next, z) << "hooks " << i + 1 << ", " << i + 2;
+        if (i + 1 < hooks / 2) {
+          EXPECT_LT(next, z) << "hooks " << i + 1 << ", " << i + 2;
+        }
+        if (i >= hooks / 2) {
+          EXPECT_GT(next, z) << "hooks " << i + 1 << ", " << i + 2;
+        }
       }
       sags.push_back(sag);
     }
@@ -388,21 +393,7 @@ TEST(Physics, AChainOfHooksHangsPlumb) {
 // hooks 605.5 mm apart, where the closure search used to leave a gap of hundreds of mm
 // (issue 9, item 4), and 15 (reaching about 636 mm: 95 % taut), closed by the stretching
 // start.
-std::string span_between_wall_hooks(int hooks) {
-  std::string s =
-      "fabkit: hacks/1\nname: span\nenvironment:\n  - name: wall\n"
-      "    frame: {pos: [0, 0, 1000], rot: [0, 0, 0]}\n    primitives:\n"
-      "      hook1: {type: hook, arc_radius: 12.5, arc_angle: 120, thickness: 1.25, "
-      "frame: {pos: [15, -302.75, 0], rot: [30, 0, 90]}}\n"
-      "      hook2: {type: hook, arc_radius: 12.5, arc_angle: 120, thickness: 1.25, "
-      "frame: {pos: [15, 302.75, 0], rot: [30, 0, 90]}}\nparts:\n";
-  for (int i = 1; i <= hooks; ++i) s += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
-  s += "connections:\n  - connect: [s1.hook1, wall.hook1]\n";
-  for (int i = 2; i <= hooks; ++i)
-    s += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
-  s += fmt::format("  - connect: [s{}.hook2, wall.hook2]\n", hooks);
-  return s;
-}
+using testing_designs::span_between_wall_hooks;
 
 // A span's verdict and sag: stable, every hook below the wall hooks, the lowest near the middle
 // (the design is symmetric about y = 0).
