@@ -44,13 +44,12 @@ std::vector<bool> moving_parts(const Problem& p) {
 // The tree connections between two parts, at most `per_side` of them from each part up
 // towards their common ancestor (or the environment), nearest the parts first.
 std::vector<ConnectionId> joints_between(const Assembly& a, PartId u, PartId v, int per_side) {
+  const KinematicGraph& g = a.graph();
+  // Each part's tree edges up to its root (KinematicGraph::path_to_root without the root).
   auto up = [&](PartId p) {
     std::vector<ConnectionId> path;
-    for (PartId q = p; a.parent(q).valid();) {
-      const ConnectionId c = a.parent(q);
-      path.push_back(c);
-      const Connection& conn = a.connection(c);
-      q = conn.first.part == q ? conn.second.part : conn.first.part;
+    for (PartId q : g.path_to_root(p)) {
+      if (!g.is_root(q)) path.push_back(g.parent_edge(q));
     }
     return path;
   };
