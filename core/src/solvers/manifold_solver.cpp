@@ -69,12 +69,18 @@ Eigen::VectorXd ManifoldSolver::rows(const Eigen::VectorXd& v, const std::vector
 Eigen::MatrixXd ManifoldSolver::null_space(const Eigen::MatrixXd& m) {
   const int n = static_cast<int>(m.cols());
   if (m.rows() == 0 || n == 0) return Eigen::MatrixXd::Identity(n, n);
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(m, Eigen::ComputeFullV);
-  const Eigen::VectorXd& sv = svd.singularValues();
-  const double tol = std::max(1e-12, 1e-9 * (sv.size() ? sv[0] : 0.0));
+  // Column-pivoted Householder QR of mᵀ: the first `rank` columns of Q span m's row space and
+  // the others its null space. It reveals rank at this tolerance as an SVD does (redundant
+  // closure rows leave pivots at round-off), without the SVD's Jacobi sweeps, which were a
+  // quarter of a cycle design's step 1.
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(m.transpose());
+  const Eigen::VectorXd pivots = qr.matrixQR().diagonal().cwiseAbs();
+  const double tol = std::max(1e-12, 1e-9 * (pivots.size() ? pivots[0] : 0.0));
   int rank = 0;
-  for (int i = 0; i < sv.size(); ++i) rank += sv[i] > tol ? 1 : 0;
-  return svd.matrixV().rightCols(n - rank);
+  for (int i = 0; i < pivots.size(); ++i) rank += pivots[i] > tol ? 1 : 0;
+  Eigen::MatrixXd basis = Eigen::MatrixXd::Identity(n, n).rightCols(n - rank);
+  basis.applyOnTheLeft(qr.householderQ());
+  return basis;
 }
 
 int ManifoldSolver::at_bound(const Eigen::VectorXd& z, int k) const {
