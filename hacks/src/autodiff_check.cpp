@@ -171,4 +171,28 @@ double hessian_mismatch(const Assembly& assembly,
   return worst / largest;
 }
 
+double target_hessian_mismatch(const Assembly& assembly, const std::vector<double>& x, double h) {
+  const Problem p = make_problem(assembly);
+  if (!p.target) return 0;
+  const Variables vars = select_variables(assembly, /*physics=*/false);
+  if (vars.index.empty()) return 0;
+  AnalyticEvaluator analytic(p, vars, x, Objective::kTarget);
+  const std::vector<double> z = to_z(vars, x);
+  const int n = static_cast<int>(z.size());
+  Eigen::MatrixXd exact;
+  if (!analytic.lagrangian_hessian(z.data(), {}, Eigen::VectorXd(), exact)) return 1;
+  // The gradient Jᵀr of ½‖r‖² at z.
+  auto gradient = [&](const std::vector<double>& at) {
+    analytic.evaluate(at.data());
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+    for (int i = 0; i < analytic.objectives(); ++i) {
+      for (int k = 0; k < n; ++k) g[k] += analytic.value(i) * analytic.gradient(i, k);
+    }
+    return g;
+  };
+  const Eigen::MatrixXd fd = central_differences(z, h, gradient);
+  const double largest = std::max(1e-12, exact.cwiseAbs().maxCoeff());
+  return (fd - exact).cwiseAbs().maxCoeff() / largest;
+}
+
 }  // namespace fabkit::hacks::detail

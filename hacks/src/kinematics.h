@@ -427,10 +427,11 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     return jacobian_[static_cast<std::size_t>(row * n_ + col)];
   }
 
-  /// The Hessian of the Lagrangian of step 2's potential (kEnergy, kEnergyHoldingTarget) in
-  /// the scaled variables, from the tree's twists (kinematics.cpp): O(n²) products instead of
-  /// the n evaluations of a finite-difference Hessian. Curving rows may be the held target's
-  /// (and the spacing rows, piecewise linear); false for closure rows and for step 1.
+  /// The Hessian of the Lagrangian of step 2's potential (kEnergy, kEnergyHoldingTarget), or
+  /// of step 1's ½‖r‖² (kTarget: JᵀJ + Σ rᵢ∇²rᵢ, for the Newton finish of its fits), in the
+  /// scaled variables, from the tree's twists (kinematics.cpp): O(n²) products instead of the
+  /// n evaluations of a finite-difference Hessian. Curving rows may be the held target's (and
+  /// the spacing rows, piecewise linear); false for closure rows.
   bool lagrangian_hessian(const double* z,
                           const std::vector<int>& rows,
                           const Eigen::VectorXd& lambda,

@@ -31,4 +31,10 @@ double hessian_mismatch(const Assembly& assembly,
                         std::uint64_t seed = 1,
                         double h = 1e-5);
 
+/// The same for step 1's objective ½‖r‖² of the target's residuals: its exact Hessian
+/// JᵀJ + Σ rᵢ∇²rᵢ against central differences of its gradient Jᵀr; 0 without a target.
+double target_hessian_mismatch(const Assembly& assembly,
+                               const std::vector<double>& x,
+                               double h = 1e-5);
+
 }  // namespace fabkit::hacks::detail

@@ -6,6 +6,7 @@
 
 #include <random>
 
+#include "../src/kinematics.h"
 #include "../src/solve_internal.h"
 #include "fabkit/hacks/connector_frame.h"
 #include "fabkit/hacks/diagnostic_codes.h"
@@ -68,6 +69,53 @@ TEST(Properties, ConnectorFramesAreRigidForEveryPrimitiveAndParameter) {
   EXPECT_GT(checked, 2000);
 }
 
+// The solvers' local twists of every connector (dL/dq · L⁻¹ of its transform L(q), recorded
+// along its elementary motions) against central differences of the transform itself.
+TEST(Properties, ConnectorTwistsAreTheDerivativesOfTheirFrames) {
+  std::mt19937_64 rng(13);
+  int checked = 0;
+  for (const PartGenerator& g : PartsLibrary::builtin().generators()) {
+    const auto part = make_part(g.name);
+    for (const Primitive& p : part->primitives) {
+      const std::vector<ParamSpec> specs = p.connector_params();
+      const int dof = connector_dof(p.connector_kind());
+      auto local = [&](const double* q) {
+        Rigid<double> l;
+        apply_connector<double>(p.connector_kind(), p.shape, q, l);
+        return l;
+      };
+      for (int trial = 0; trial < 10; ++trial) {
+        double q[3] = {0, 0, 0};
+        for (std::size_t k = 0; k < specs.size(); ++k) {
+          const double lo = specs[k].tag == ParamTag::kUnbounded ? -720 : specs[k].lo;
+          const double hi = specs[k].tag == ParamTag::kUnbounded ? 720 : specs[k].hi;
+          q[k] = std::uniform_real_distribution<double>(lo, hi)(rng);
+        }
+        Vec3 w[3], v[3];
+        detail::local_connector_twists(p, q, w, v);
+        const Rigid<double> at = local(q);
+        for (int j = 0; j < dof; ++j) {
+          const double h = 1e-6 * std::max(1.0, std::abs(q[j]));
+          double qp[3] = {q[0], q[1], q[2]};
+          double qm[3] = {q[0], q[1], q[2]};
+          qp[j] += h;
+          qm[j] -= h;
+          const Rigid<double> plus = local(qp);
+          const Rigid<double> minus = local(qm);
+          const Mat3 omega = (plus.R - minus.R) / (2 * h) * at.R.transpose();
+          const Vec3 w_fd(omega(2, 1), omega(0, 2), omega(1, 0));
+          const Vec3 v_fd = (plus.t - minus.t) / (2 * h) - w_fd.cross(at.t);
+          const std::string where = fmt::format("{}.{} q{} = {}", g.name, p.name, j, q[j]);
+          EXPECT_LT((w[j] - w_fd).norm(), 1e-7 * std::max(1.0, w_fd.norm())) << where;
+          EXPECT_LT((v[j] - v_fd).norm(), 1e-6 * std::max(1.0, v_fd.norm())) << where;
+          ++checked;
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 1000);
+}
+
 TEST(Properties, AnalyticDerivativesMatchFiniteDifferencesOnRandomConfigurations) {
   std::mt19937_64 rng(11);
   for (const char* name : kGallery) {
@@ -83,9 +131,9 @@ TEST(Properties, AnalyticDerivativesMatchFiniteDifferencesOnRandomConfigurations
 }
 
 // The exact Hessian of step 2's Lagrangian (the potential's, and the held target's rows when
-// settling) against central differences of its exact gradient, on random configurations of
-// every gallery design and of a long S-hook chain (connections of several kinds, branches,
-// cycles, targets with and without symmetry).
+// settling) and of step 1's least squares against central differences of its exact gradient, on
+// random configurations of every gallery design and of a long S-hook chain (connections of several
+// kinds, branches, cycles, targets with and without symmetry).
 TEST(Properties, AnalyticHessianMatchesFiniteDifferencesOnRandomConfigurations) {
   std::mt19937_64 rng(23);
   std::vector<Design> designs;
@@ -106,6 +154,9 @@ TEST(Properties, AnalyticHessianMatchesFiniteDifferencesOnRandomConfigurations) 
       // With the target held, as the settling between the steps does (random multipliers).
       EXPECT_LT(detail::hessian_mismatch(d.assembly, x, true, 100 + trial), 1e-6)
           << d.name << " holding its target, " << trial;
+      // Step 1's ½‖r‖² of the target's residuals (its Newton finish).
+      EXPECT_LT(detail::target_hessian_mismatch(d.assembly, x), 1e-6)
+          << d.name << " reaching for its target, " << trial;
     }
   }
 }

@@ -360,6 +360,18 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
   double mu = 1e-4;
   int it = 0;
   Clock::duration last{};
+  // Gauss-Newton, which Levenberg-Marquardt becomes as its damping falls, converges only
+  // linearly where the residuals stay large at the minimum (a target the hack cannot quite
+  // reach): such fits crawled for hundreds of iterations and ended at the iteration limit short
+  // of the minimum (clip light S: 460 iterations for the last 2 % of f). Once kCrawlWindow
+  // iterations have lowered f by less than kCrawlDecrease of it together, the fit is finished
+  // by Newton's method on ½‖r‖² (relax()), whose Hessian has the residuals' own curvature.
+  // Stopping there instead would be faster but leaves the fit short (clip light M: 4.27 mm
+  // from its target instead of 3.55).
+  constexpr std::size_t kCrawlWindow = 10;
+  constexpr double kCrawlDecrease = 0.01;
+  std::vector<double> history;  // f after each iteration
+  bool crawling = false;
   for (; it < max_iterations; ++it) {
     if (it == 15 && cur.f > give_up) break;
     if (no_time_for(last)) break;
@@ -415,6 +427,19 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
     }
     if (!moved) break;
     last = Clock::now() - began;
+    history.push_back(cur.f);
+    if (history.size() > kCrawlWindow &&
+        history[history.size() - 1 - kCrawlWindow] - cur.f < kCrawlDecrease * cur.f) {
+      crawling = true;
+      ++it;
+      break;
+    }
+  }
+  // A start that would be abandoned (far from the best so far) is not finished.
+  if (crawling && cur.f <= give_up && it < max_iterations) {
+    Result polished = relax(cur.z, max_iterations - it);
+    polished.iterations += it;
+    return polished;
   }
   return finish(cur, it, max_iterations, out);
 }

@@ -12,8 +12,10 @@ namespace fabkit::hacks {
 
 /// Right-multiplies `m` by the connector frame relative to the primitive's base frame.
 /// `q` holds connector_dof(kind) values in the order of Primitive::connector_params().
-template <class T>
-void apply_connector(ConnectorKind kind, const PrimitiveShape& s, const T* q, Rigid<T>& m) {
+/// `m` is a Rigid<T>, or anything with its translate / rotate_x / rotate_y / rotate_z (the
+/// solver's twist recorder follows the same elementary motions: kinematics.cpp).
+template <class T, class Frame>
+void apply_connector(ConnectorKind kind, const PrimitiveShape& s, const T* q, Frame& m) {
   using std::cos;
   using std::sin;
   const T zero(0);

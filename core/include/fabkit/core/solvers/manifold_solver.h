@@ -4,7 +4,8 @@
 /// which tolerates redundant equations), bounds lo ≤ z ≤ hi are an active set, and inequality
 /// rows g(z) ≤ 0 join the equalities while they bind. Steps are taken in the null space of
 /// the active constraints:
-///  - fit(): Levenberg-Marquardt on least-squares residuals r(z) (f = ½‖r‖²);
+///  - fit(): Levenberg-Marquardt on least-squares residuals r(z) (f = ½‖r‖²), finished by
+///    relax() on f where it crawls (large residuals at the minimum);
 ///  - relax(): Newton on a scalar potential f(z) with the Hessian of the Lagrangian (finite
 ///    differences of exact gradients), in the eigenbasis of the reduced Hessian: positive
 ///    curvature gets a Newton step, negative curvature a descent step (and, at a stationary
