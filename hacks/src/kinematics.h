@@ -270,15 +270,16 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     std::fill(twists_ready_.begin(), twists_ready_.end(), 0);
 
     // Closure frames, once.
-    struct ClosureFrames {
-      Rigid<double> f1, f2;
-      int part1, part2;
-    };
     std::vector<ClosureFrames> cf;
-    for (ConnectionId c : problem_.closures) {
-      const auto [f1, f2] = a.connection_frames<double>(c, frames, x.data());
-      const Connection& conn = a.connection(c);
-      cf.push_back({f1, f2, conn.first.part.value, conn.second.part.value});
+    for (std::size_t i = 0; i < problem_.closures.size(); ++i) {
+      const auto [f1, f2] = a.connection_frames<double>(problem_.closures[i], frames, x.data());
+      const Connection& conn = a.connection(problem_.closures[i]);
+      cf.push_back({f1, f2, conn.first.part.value, conn.second.part.value, Mat3::Zero()});
+      // The orientation rows are linear in dw = w₂ − w₁ (they read R₁ᵀ[dw]×R₂): their map,
+      // column by column, once per evaluation instead of two 3×3 products per parameter.
+      for (int e = 0; e < 3; ++e) {
+        cf.back().orientation.col(e) = orientation_derivative(i, f1, f2, Vec3::Unit(e));
+      }
     }
     const int no = cost_.objective_count();
     // Contact rows: −signed distance of each watched pair; pairs whose bounds are apart by
@@ -367,7 +368,7 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
         for (std::size_t i = 0; i < cf.size(); ++i) {
           const Twist t1 = moves(cf[i].part1) ? tau : Twist{};
           const Twist t2 = moves(cf[i].part2) ? tau : Twist{};
-          row = closure_derivative(i, cf[i].f1, cf[i].f2, t1, t2, row, put);
+          row = closure_derivative(i, cf[i], t1, t2, row, put);
         }
         if (!near.empty()) {
           contact_tau[static_cast<std::size_t>(k)] = tau;
@@ -380,7 +381,7 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
           const bool mine = problem_.closures[i].value == slot.connection;
           const Twist t1 = mine && slot.first ? spatial : Twist{};
           const Twist t2 = mine && !slot.first ? spatial : Twist{};
-          row = closure_derivative(i, cf[i].f1, cf[i].f2, t1, t2, row, put);
+          row = closure_derivative(i, cf[i], t1, t2, row, put);
         }
       }
     }
@@ -515,18 +516,20 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     }
   }
 
-  template <class Put>
-  int closure_derivative(std::size_t i,
-                         const Rigid<double>& f1,
-                         const Rigid<double>& f2,
-                         const Twist& t1,
-                         const Twist& t2,
-                         int row,
-                         Put put) const {
-    const Vec3 dp = t1.velocity(f1.t) - t2.velocity(f2.t);
-    for (int a = 0; a < 3; ++a) put(row++, dp[a]);
-    // d(R1ᵀ R2) = R1ᵀ [w2 - w1]× R2.
-    const Vec3 dw = t2.w - t1.w;
+  // A closure's connector frames at the point being evaluated, and the orientation rows'
+  // derivative with respect to dw = w₂ − w₁ (2 or 3 rows used).
+  struct ClosureFrames {
+    Rigid<double> f1, f2;
+    int part1, part2;
+    Mat3 orientation;
+  };
+
+  // The orientation rows' change when the second frame turns by dw relative to the first:
+  // d(R₁ᵀR₂) = R₁ᵀ[dw]×R₂.
+  Vec3 orientation_derivative(std::size_t i,
+                              const Rigid<double>& f1,
+                              const Rigid<double>& f2,
+                              const Vec3& dw) const {
     Mat3 skew;
     skew << 0, -dw.z(), dw.y(), dw.z(), 0, -dw.x(), -dw.y(), dw.x(), 0;
     const Mat3 drel = f1.R.transpose() * skew * f2.R;
@@ -535,13 +538,25 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
       const Vec3 b = axis.unitOrthogonal();
       const Vec3 d = axis.cross(b);
       const Vec3 dturned = drel * axis;
-      put(row++, dturned.dot(b) * kRadToDeg);
-      put(row++, dturned.dot(d) * kRadToDeg);
-    } else {
-      put(row++, (drel(2, 1) - drel(1, 2)) * 0.5 * kRadToDeg);
-      put(row++, (drel(0, 2) - drel(2, 0)) * 0.5 * kRadToDeg);
-      put(row++, (drel(1, 0) - drel(0, 1)) * 0.5 * kRadToDeg);
+      return Vec3(dturned.dot(b) * kRadToDeg, dturned.dot(d) * kRadToDeg, 0);
     }
+    return Vec3((drel(2, 1) - drel(1, 2)) * 0.5 * kRadToDeg,
+                (drel(0, 2) - drel(2, 0)) * 0.5 * kRadToDeg,
+                (drel(1, 0) - drel(0, 1)) * 0.5 * kRadToDeg);
+  }
+
+  template <class Put>
+  int closure_derivative(std::size_t i,
+                         const ClosureFrames& c,
+                         const Twist& t1,
+                         const Twist& t2,
+                         int row,
+                         Put put) const {
+    const Vec3 dp = t1.velocity(c.f1.t) - t2.velocity(c.f2.t);
+    for (int a = 0; a < 3; ++a) put(row++, dp[a]);
+    const Vec3 orientation = c.orientation * (t2.w - t1.w);
+    const int rows = problem_.free_axes[i] ? 2 : 3;
+    for (int a = 0; a < rows; ++a) put(row++, orientation[a]);
     return row;
   }
 
