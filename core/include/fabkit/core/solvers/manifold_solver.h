@@ -182,6 +182,9 @@ class ManifoldSolver {
   /// called: out_of_time() holds from then on).
   bool no_time_for(std::chrono::steady_clock::duration cost) const;
   Point step(const Point& from, const Active& act, const Eigen::VectorXd& dF);
+  /// relax(); with `small_curvatures`, curvatures below the neutral threshold keep their value
+  /// where the objective slopes along them (fit()'s Newton finish) instead of counting as 0.
+  Result newton(const Eigen::VectorXd& z0, int max_iterations, bool small_curvatures);
   Eigen::VectorXd multipliers(const Point& p,
                               const std::vector<int>& free,
                               const std::vector<int>& kept) const;
