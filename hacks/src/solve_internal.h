@@ -31,6 +31,13 @@ double hessian_mismatch(const Assembly& assembly,
                         std::uint64_t seed = 1,
                         double h = 1e-5);
 
+/// Largest difference between the closure search's analytic rows and Jacobian (verification,
+/// cycle_closure.cpp) and Ceres' automatic differentiation of the same rows at `x`, relative to
+/// the largest Jacobian entry; 0 for a design without cycles.
+double closure_search_jacobian_mismatch(const Assembly& assembly,
+                                        const std::vector<double>& x,
+                                        double rotation_weight = 1.0);
+
 /// The same for step 1's objective ½‖r‖² of the target's residuals: its exact Hessian
 /// JᵀJ + Σ rᵢ∇²rᵢ against central differences of its gradient Jᵀr; 0 without a target.
 double target_hessian_mismatch(const Assembly& assembly,
