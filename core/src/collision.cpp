@@ -7,7 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <string_view>
+#include <unordered_map>
 
 namespace fabkit::collision {
 
@@ -116,13 +119,81 @@ CachedBody& CachedBody::operator=(const CachedBody& other) {
   return *this;
 }
 
+namespace {
+
+// Bodies already built in this process, by their contents: a design's copies of one part (the
+// S-hooks of a chain, the eye hooks of a basket) and later solves of the same parts share one
+// set of FCL shapes instead of building a convex shape per piece per copy (24 S-hooks: a sixth
+// of 8 independent cycles' solve). Keyed by every number the body is built from, compared
+// exactly; bounded, and emptied when full (bodies in use live on in their owners).
+class BodyLibrary {
+ public:
+  Body get(std::span<const TriangleMesh> pieces,
+           std::span<const int> tags,
+           std::span<const std::vector<Arc>> arcs) {
+    std::vector<double> key;
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      const TriangleMesh& m = pieces[i];
+      key.push_back(static_cast<double>(m.vertices.size()));
+      for (const Vec3& v : m.vertices) key.insert(key.end(), {v.x(), v.y(), v.z()});
+      key.push_back(static_cast<double>(m.faces.size()));
+      for (const Eigen::Vector3i& f : m.faces)
+        key.insert(key.end(), {double(f[0]), double(f[1]), double(f[2])});
+      key.push_back(i < tags.size() ? tags[i] : -1);
+      if (i < arcs.size()) {
+        key.push_back(static_cast<double>(arcs[i].size()));
+        for (const Arc& a : arcs[i]) {
+          key.insert(key.end(),
+                     {a.centre.x(),
+                      a.centre.y(),
+                      a.centre.z(),
+                      a.u.x(),
+                      a.u.y(),
+                      a.u.z(),
+                      a.v.x(),
+                      a.v.y(),
+                      a.v.z(),
+                      a.radius,
+                      a.from,
+                      a.to});
+        }
+      } else {
+        key.push_back(-1);
+      }
+    }
+    const std::size_t hash = std::hash<std::string_view>{}(
+        std::string_view(reinterpret_cast<const char*>(key.data()), key.size() * sizeof(double)));
+    const std::lock_guard lock(mutex_);
+    auto [first, last] = bodies_.equal_range(hash);
+    for (auto it = first; it != last; ++it) {
+      if (it->second.first == key) return it->second.second;
+    }
+    if (bodies_.size() >= kCapacity) bodies_.clear();
+    Body body(pieces, tags, arcs);
+    bodies_.emplace(hash, std::make_pair(std::move(key), body));
+    return body;
+  }
+
+ private:
+  static constexpr std::size_t kCapacity = 512;
+  std::mutex mutex_;
+  std::unordered_multimap<std::size_t, std::pair<std::vector<double>, Body>> bodies_;
+};
+
+BodyLibrary& body_library() {
+  static BodyLibrary library;
+  return library;
+}
+
+}  // namespace
+
 Body CachedBody::get(std::span<const TriangleMesh> pieces,
                      std::span<const int> tags,
                      std::span<const std::vector<Arc>> arcs) const {
   const std::lock_guard lock(mutex_);
   if (!body_ || built_from_ != pieces.data() || built_count_ != pieces.size() ||
       built_arc_count_ != arcs.size()) {
-    body_.emplace(pieces, tags, arcs);
+    body_ = body_library().get(pieces, tags, arcs);
     built_from_ = pieces.data();
     built_count_ = pieces.size();
     built_arc_count_ = arcs.size();

@@ -196,5 +196,27 @@ TEST(CachedBody, KeptByItsOwnerNotByCopies) {
   EXPECT_EQ(original.body.get(original.pieces, original.tags).bounds_max(), Vec3(10, 10, 40));
 }
 
+// Owners of the same pieces (a design's copies of one part) share one set of shapes, built
+// once; owners of other pieces, or other tags, do not.
+TEST(CachedBody, EqualContentsShareOneBody) {
+  const std::vector<TriangleMesh> pieces{block(Vec3(0, 0, 0), Vec3(10, 10, 10)),
+                                         block(Vec3(20, 0, 0), Vec3(30, 5, 5))};
+  const std::vector<int> tags{-1, 2};
+  CachedBody a;
+  CachedBody b;
+  const std::vector<TriangleMesh> copied = pieces;  // other storage, same numbers
+  const Body first = a.get(pieces, tags);
+  EXPECT_TRUE(first.shares_shapes_with(b.get(copied, tags)));
+
+  CachedBody c;
+  std::vector<TriangleMesh> moved = pieces;
+  moved[1].vertices[0].x() += 1e-9;
+  EXPECT_FALSE(first.shares_shapes_with(c.get(moved, tags)));
+  CachedBody d;
+  const Body retagged = d.get(pieces, std::vector<int>{-1, 3});
+  EXPECT_FALSE(first.shares_shapes_with(retagged));
+  EXPECT_EQ(retagged.tag(1), 3);
+}
+
 }  // namespace
 }  // namespace fabkit::collision

@@ -72,6 +72,10 @@ class Body {
   /// Bounds of the whole body in body coordinates.
   Vec3 bounds_min() const { return min_; }
   Vec3 bounds_max() const { return max_; }
+  /// Whether the two are one set of shapes (built once, shared).
+  bool shares_shapes_with(const Body& other) const {
+    return pieces_ != nullptr && pieces_ == other.pieces_;
+  }
 
  private:
   friend Proximity piece_distance(
@@ -84,9 +88,10 @@ class Body {
 
 /// A body its owner builds on first use and keeps (building one costs a convex shape per
 /// piece, and so does freeing it: a solve should not pay either for parts it was handed).
-/// Owners are copied and then edited, so a copy starts without a body and builds its own; a
-/// change of the number or the storage of the pieces builds it again. Safe to share between
-/// threads.
+/// Owners are copied and then edited, so a copy starts without a body and gets its own; a
+/// change of the number or the storage of the pieces gets it again. Owners of equal pieces
+/// get one body, built once per process (collision.cpp keeps the bodies built so far, by
+/// their contents). Safe to share between threads.
 class CachedBody {
  public:
   CachedBody() = default;
