@@ -5,6 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <utility>
+#include <vector>
 
 namespace fabkit::hacks::detail {
 namespace {
@@ -148,11 +153,94 @@ double refine_extreme(const PointSet& a,
 
 }  // namespace
 
+namespace {
+
+// Every number a distance range depends on: the two connectors' kinds, shapes, frames in their
+// bodies and parameter boxes, where their bodies are, and whether they are one point set.
+std::vector<double> range_key(const Primitive& a,
+                              const Mat4& frame_a,
+                              const Primitive& b,
+                              const Mat4& frame_b,
+                              bool same_point_set) {
+  std::vector<double> key{same_point_set ? 1.0 : 0.0};
+  for (const auto& [p, m] : {std::pair{&a, &frame_a}, std::pair{&b, &frame_b}}) {
+    const PrimitiveShape& s = p->shape;
+    key.push_back(static_cast<double>(p->connector_kind()));
+    key.insert(key.end(),
+               {s.radius,
+                s.length,
+                s.arc_radius,
+                s.arc_angle,
+                s.thickness,
+                s.inner_radius,
+                s.width,
+                s.height,
+                s.dist,
+                s.open_gap});
+    const Mat4 f = p->frame.matrix();
+    key.insert(key.end(), f.data(), f.data() + 16);
+    key.insert(key.end(), m->data(), m->data() + 16);
+    for (const ParamSpec& spec : p->connector_params()) {
+      key.insert(key.end(), {spec.init, spec.lo, spec.hi, static_cast<double>(spec.tag)});
+    }
+  }
+  return key;
+}
+
+// Ranges measured so far in this process: a design's copies of one part (the S-hooks of a
+// chain) span the same range, and each costs thousands of samples and a local search (a fifth
+// of verifying 8 independent cycles of S-hooks). Compared exactly; emptied when full.
+class RangeMemo {
+ public:
+  std::optional<DistanceRange> find(const std::vector<double>& key) {
+    const std::lock_guard lock(mutex_);
+    const auto it = ranges_.find(key);
+    if (it == ranges_.end()) return std::nullopt;
+    return it->second;
+  }
+  void keep(std::vector<double> key, const DistanceRange& range) {
+    const std::lock_guard lock(mutex_);
+    if (ranges_.size() >= 1024) ranges_.clear();
+    ranges_.emplace(std::move(key), range);
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<std::vector<double>, DistanceRange> ranges_;
+};
+
+RangeMemo& range_memo() {
+  static RangeMemo memo;
+  return memo;
+}
+
+DistanceRange measure_distance_range(const Primitive& a,
+                                     const Mat4& frame_a,
+                                     const Primitive& b,
+                                     const Mat4& frame_b,
+                                     bool same_point_set);
+
+}  // namespace
+
 DistanceRange connector_distance_range(const Primitive& a,
                                        const Mat4& frame_a,
                                        const Primitive& b,
                                        const Mat4& frame_b,
                                        bool same_point_set) {
+  std::vector<double> key = range_key(a, frame_a, b, frame_b, same_point_set);
+  if (const std::optional<DistanceRange> known = range_memo().find(key)) return *known;
+  const DistanceRange range = measure_distance_range(a, frame_a, b, frame_b, same_point_set);
+  range_memo().keep(std::move(key), range);
+  return range;
+}
+
+namespace {
+
+DistanceRange measure_distance_range(const Primitive& a,
+                                     const Mat4& frame_a,
+                                     const Primitive& b,
+                                     const Mat4& frame_b,
+                                     bool same_point_set) {
   const PointSet sa = sample_connector_points(a);
   const PointSet sb = same_point_set ? sa : sample_connector_points(b);
   auto place = [](const Vec3& v, const Mat4& m) {
@@ -188,6 +276,8 @@ DistanceRange connector_distance_range(const Primitive& a,
              : std::min(lo, refine_extreme(sa, frame_a, sa.q[lo_i], sb, frame_b, sb.q[lo_j], 1.0));
   return r;
 }
+
+}  // namespace
 
 PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closing) {
   const Connection& c = assembly.connection(closing);
