@@ -58,13 +58,17 @@ class PartFileReader {
   struct Entry {
     Part part;  ///< with `contents`, only its name, description and category
     std::vector<std::string> aliases;
-    std::optional<YAML::Node> contents;  ///< the entry, when its contents are read later
+    /// When its contents are read later: a document holding the entry alone, at its own lines.
+    std::optional<std::string> contents;
   };
 
   // Parsed parts, or nullopt if anything was wrong. With `defer_contents` each part's
   // identity (name, aliases, description, category) is read and checked now, its contents
   // (primitives, mesh, body, mass) when read_contents() is called for it.
   std::optional<std::vector<Entry>> read(std::string_view text, bool defer_contents = false) {
+    if (defer_contents) {
+      if (const std::optional<SplitFile> split = split_entries(text)) return read_split(*split);
+    }
     const auto root = in_.parse_mapping(text, "a 'parts' list");
     if (!root) return std::nullopt;
     in_.check_keys(*root, {"fabkit", "parts"}, "a part file");
@@ -81,7 +85,10 @@ class PartFileReader {
         std::string who;
         if (!read_identity(node, part, aliases, who)) continue;
         if (defer_contents) {
-          result_.push_back({std::move(part), std::move(aliases), node});
+          YAML::Emitter alone;
+          alone << YAML::BeginMap << YAML::Key << "parts" << YAML::Value << YAML::BeginSeq << node
+                << YAML::EndSeq << YAML::EndMap;
+          result_.push_back({std::move(part), std::move(aliases), std::string(alone.c_str())});
         } else if (read_contents(node, part, who)) {
           result_.push_back({std::move(part), std::move(aliases), std::nullopt});
         }
@@ -94,6 +101,106 @@ class PartFileReader {
  private:
   // The part's name, aliases, description and category (checked against the library and
   // this file); false if any is wrong.
+  // A part file laid out as the built-in one is: a header ending in a `parts:` line, then one
+  // entry per `  - ` line, each opening with its identity keys (name, aliases, description,
+  // category) before anything else.
+  struct SplitFile {
+    std::vector<std::string_view> lines;
+    std::size_t parts_line = 0;  // index of the `parts:` line
+    struct Span {
+      std::size_t first = 0, end = 0;  // the entry's lines [first, end)
+      std::size_t head_end = 0;        // its identity lines end here
+    };
+    std::vector<Span> entries;
+  };
+
+  // The layout of `text`, or nullopt where it is not as above (the file is then read whole).
+  static std::optional<SplitFile> split_entries(std::string_view text) {
+    SplitFile f;
+    for (std::size_t at = 0; at <= text.size();) {
+      const std::size_t end = std::min(text.find('\n', at), text.size());
+      f.lines.push_back(text.substr(at, end - at));
+      at = end + 1;
+    }
+    auto starts = [](std::string_view line, std::string_view prefix) {
+      return line.substr(0, prefix.size()) == prefix;
+    };
+    auto blank_or_comment = [](std::string_view line) {
+      const std::size_t c = line.find_first_not_of(' ');
+      return c == std::string_view::npos || line[c] == '#';
+    };
+    auto identity_line = [&](std::string_view line) {
+      for (std::string_view key : {"name:", "aliases:", "description:", "category:"}) {
+        if (starts(line, std::string("    ") + std::string(key))) return true;
+      }
+      return false;
+    };
+    std::size_t i = 0;
+    while (i < f.lines.size() && f.lines[i] != "parts:") ++i;
+    if (i == f.lines.size()) return std::nullopt;
+    f.parts_line = i;
+    for (++i; i < f.lines.size(); ++i) {
+      const std::string_view line = f.lines[i];
+      if (starts(line, "  - ")) {
+        if (!f.entries.empty()) f.entries.back().end = i;
+        f.entries.push_back({i, f.lines.size(), i + 1});
+      } else if (!blank_or_comment(line) && (f.entries.empty() || !starts(line, "    "))) {
+        return std::nullopt;  // something else at the top level, or a stray line
+      }
+    }
+    for (SplitFile::Span& e : f.entries) {
+      std::size_t k = e.first + 1;
+      while (k < e.end && (blank_or_comment(f.lines[k]) || identity_line(f.lines[k]))) ++k;
+      e.head_end = k;
+      for (; k < e.end; ++k) {
+        if (identity_line(f.lines[k])) return std::nullopt;  // an identity key further down
+      }
+    }
+    if (f.entries.empty()) return std::nullopt;
+    return f;
+  }
+
+  // The file's header and the lines `keep` says, every other line blank: the lines kept stay
+  // where they are in the file, so that messages name the file's own lines.
+  template <class Keep>
+  static std::string with_lines(const SplitFile& f, Keep keep) {
+    std::string doc;
+    for (std::size_t i = 0; i < f.lines.size(); ++i) {
+      if (i <= f.parts_line || keep(i)) doc += f.lines[i];
+      doc += '\n';
+    }
+    return doc;
+  }
+
+  // Reads the identities of every entry from one document of their identity lines; each entry's
+  // contents are kept as a document of the header and that entry alone.
+  std::optional<std::vector<Entry>> read_split(const SplitFile& f) {
+    std::vector<char> head(f.lines.size(), 0);
+    for (const SplitFile::Span& e : f.entries) {
+      for (std::size_t k = e.first; k < e.head_end; ++k) head[k] = 1;
+    }
+    const auto root = in_.parse_mapping(with_lines(f, [&](std::size_t i) { return head[i] != 0; }),
+                                        "a 'parts' list");
+    if (!root) return std::nullopt;
+    in_.check_keys(*root, {"fabkit", "parts"}, "a part file");
+    const YAML::Node parts = (*root)["parts"];
+    if (!parts || !parts.IsSequence() || parts.size() != f.entries.size()) return std::nullopt;
+    result_.reserve(parts.size());
+    std::size_t index = 0;
+    for (const YAML::Node& node : parts) {
+      const SplitFile::Span& e = f.entries[index++];
+      std::vector<std::string> aliases;
+      Part part;
+      std::string who;
+      if (!read_identity(node, part, aliases, who)) continue;
+      result_.push_back({std::move(part), std::move(aliases), with_lines(f, [&](std::size_t i) {
+                           return i >= e.first && i < e.end;
+                         })});
+    }
+    if (in_.errors() > 0) return std::nullopt;
+    return std::move(result_);
+  }
+
   bool read_identity(const YAML::Node& node,
                      Part& part,
                      std::vector<std::string>& aliases,
@@ -173,6 +280,18 @@ class PartFileReader {
 
  public:
   // The rest of the part: primitives, mesh, body, mass properties; false if any is wrong.
+  // The contents of the one entry of a deferred entry's document (Entry::contents).
+  bool read_deferred(std::string_view document, Part& part, const std::string& who) {
+    const auto root = in_.parse_mapping(document, "a 'parts' list");
+    if (!root) return false;
+    const YAML::Node parts = (*root)["parts"];
+    if (!parts || !parts.IsSequence() || parts.size() != 1) {
+      in_.error(codes::kMalformedInput, "a deferred part must be one entry", in_.at(*root));
+      return false;
+    }
+    return read_contents(parts[0], part, who);
+  }
+
   bool read_contents(const YAML::Node& node, Part& part, const std::string& who) {
     const int errors_before = in_.errors();
     // Primitives.
@@ -293,28 +412,29 @@ class PartFileReader {
   std::vector<Entry> result_;
 };
 
-// A part whose contents are read on first use (PartLoading::kOnFirstUse), once; later uses
-// copy it without a lock. The reads share one lock: the entries share one YAML document, and
-// yaml-cpp does not promise that two threads may read one document at once.
+// A part whose contents are read on first use (PartLoading::kOnFirstUse), once, from its own
+// document (the file's header and the entry at its own lines: a solve of three parts parses
+// three entries, not the whole file); later uses copy it without a lock.
 class DeferredPart {
  public:
-  DeferredPart(std::string file, std::filesystem::path base_dir, YAML::Node node, Part identity)
+  DeferredPart(std::string file,
+               std::filesystem::path base_dir,
+               std::string document,
+               Part identity)
       : file_(std::move(file)),
         base_dir_(std::move(base_dir)),
-        node_(std::move(node)),
+        document_(std::move(document)),
         identity_(std::move(identity)) {}
 
   Part get() {
     // A throw leaves the flag unset: the next use tries again, and throws again.
     std::call_once(built_, [this] {
-      static std::mutex document;
-      const std::lock_guard<std::mutex> held(document);
       Diagnostics diags;
       const PartsLibrary none;
       PartFileReader reader(file_, base_dir_, none, diags);
       Part part = identity_;
       // Only files tested to load (the built-in one) are read so: a failure is a bug here.
-      if (!reader.read_contents(node_, part, identity_.type_name)) {
+      if (!reader.read_deferred(document_, part, identity_.type_name)) {
         throw std::logic_error(fmt::format(
             "{}: part {} did not load: {}",
             file_,
@@ -322,7 +442,7 @@ class DeferredPart {
             diags.empty() ? std::string("unknown error") : diags.items().front().format()));
       }
       part_ = std::move(part);
-      node_ = YAML::Node();
+      document_.clear();
     });
     return *part_;
   }
@@ -330,7 +450,7 @@ class DeferredPart {
  private:
   std::string file_;
   std::filesystem::path base_dir_;
-  YAML::Node node_;
+  std::string document_;
   Part identity_;
   std::optional<Part> part_;
   std::once_flag built_;

@@ -466,6 +466,63 @@ TEST_F(PartFiles, OnFirstUseBuildsTheSamePartsWhenTheyAreMade) {
   }
 }
 
+// A file laid out as the built-in one (a header, `parts:`, entries opening with their identity
+// keys) is read entry by entry on first use: identities at load, each entry's contents when its
+// part is first made, and a mistake there names the file's own line.
+TEST_F(PartFiles, OnFirstUseReadsEachEntryAtItsOwnLines) {
+  const std::string text =
+      "# built-in style\n"
+      "fabkit: hacks/1\n"
+      "parts:\n"
+      "  - name: GoodPeg\n"
+      "    # a peg\n"
+      "    description: a peg\n"
+      "    category: hack\n"
+      "    primitives:\n"
+      "      - {name: peg, type: rod, radius: 2, length: 30}\n"
+      "    mass: 120\n"
+      "  - name: BadPeg\n"
+      "    aliases: [WrongPeg]\n"
+      "    primitives:\n"
+      "      - {name: peg, type: rod, radius: -3, length: 10}\n";
+  PartsLibrary lib;
+  Diagnostics diags;
+  ASSERT_TRUE(lib.load_yaml_text(
+      text, "split.yaml", dir_, diags, PartCategory::kOther, PartLoading::kOnFirstUse))
+      << diags.format();
+  const PartGenerator* good = lib.find("GoodPeg");
+  ASSERT_NE(good, nullptr);
+  EXPECT_EQ(good->description, "a peg");
+  EXPECT_EQ(good->category, PartCategory::kHack);
+  EXPECT_EQ(lib.find("WrongPeg"), lib.find("BadPeg"));
+  const Part peg = good->build({});
+  ASSERT_EQ(peg.primitives.size(), 1u);
+  EXPECT_DOUBLE_EQ(peg.primitives[0].shape.radius, 2);
+  EXPECT_DOUBLE_EQ(peg.mass, 120);
+  try {
+    lib.find("BadPeg")->build({});
+    ADD_FAILURE() << "a part with a negative radius was built";
+  } catch (const std::logic_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("split.yaml:14"), std::string::npos) << what;
+    EXPECT_NE(what.find("-3"), std::string::npos) << what;
+  }
+  // An identity mistake is still reported at load, at its line.
+  PartsLibrary dup;
+  Diagnostics d2;
+  EXPECT_FALSE(
+      dup.load_yaml_text("parts:\n  - name: Twice\n    primitives: []\n"
+                         "  - name: twice\n    primitives: []\n",
+                         "dup.yaml",
+                         dir_,
+                         d2,
+                         PartCategory::kOther,
+                         PartLoading::kOnFirstUse));
+  ASSERT_FALSE(d2.empty());
+  EXPECT_EQ(d2.items().front().code, codes::kDuplicateName);
+  EXPECT_NE(d2.format().find("dup.yaml:4"), std::string::npos) << d2.format();
+}
+
 // The built-in parts are built on first use, under one lock: threads that make them at once
 // (the server's workers) get the same parts.
 TEST(PartsLibrary, BuiltinPartsMadeFromTwoThreadsAreTheSame) {
