@@ -11,6 +11,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fabkit/hacks/diagnostic_codes.h"
@@ -61,12 +62,19 @@ std::vector<std::string> split(const std::string& s, const std::string& sep) {
 }
 
 // The table writes some minus signs as U+2212.
-std::string ascii_minus(std::string s) {
-  const std::string minus = "\xE2\x88\x92";
-  for (auto pos = s.find(minus); pos != std::string::npos; pos = s.find(minus)) {
-    s.replace(pos, minus.size(), "-");
+std::string ascii_minus(const std::string& s) {
+  const std::string_view minus = "\xE2\x88\x92";
+  std::string out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size();) {
+    if (std::string_view(s).substr(i, minus.size()) == minus) {
+      out += '-';
+      i += minus.size();
+    } else {
+      out += s[i++];
+    }
   }
-  return s;
+  return out;
 }
 
 Vec3 parse_vec3(const std::string& s) {

@@ -533,7 +533,10 @@ TEST(PartsLibrary, BuiltinPartsMadeFromTwoThreadsAreTheSame) {
       if (!g.params.empty()) continue;
       const Part p = g.build({});
       std::string d = g.name + fmt::format(" {:.12g}", p.mass);
-      for (const Primitive& prim : p.primitives) d += " " + prim.describe();
+      for (const Primitive& prim : p.primitives) {
+        d += ' ';
+        d += prim.describe();
+      }
       out.push_back(std::move(d));
     }
     return out;
