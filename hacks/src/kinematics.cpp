@@ -23,7 +23,7 @@ class TwistRecorder {
     for (int j = 0; j < dof_; ++j) w_[j] = v_[j] = Vec3::Zero();
   }
   TwistRecorder& translate(const Jet3& x, const Jet3& y, const Jet3& z) {
-    for (int j = 0; j < dof_; ++j) v_[j] += R_ * Vec3(x.v[j], y.v[j], z.v[j]);
+    for (int j = 0; j < dof_; ++j) v_[j] += frame_.R * Vec3(x.v[j], y.v[j], z.v[j]);
     frame_.translate(x.a, y.a, z.a);
     return *this;
   }
@@ -58,7 +58,6 @@ class TwistRecorder {
   Vec3* w_;
   Vec3* v_;
   Rigid<double> frame_;
-  const Mat3& R_ = frame_.R;
 };
 
 }  // namespace
