@@ -153,6 +153,23 @@ TEST(ManifoldSolver, DoesNotStartAnIterationItCannotFinishBeforeTheDeadline) {
   EXPECT_LE(r.iterations, 1);
 }
 
+// The null space of the kept rows: orthonormal, annihilated by the rows, of the dimension the
+// rank leaves (redundant rows, as fixed joints make, count once), empty when nothing may move.
+TEST(ManifoldSolver, NullSpaceOfRedundantAndFullRows) {
+  EXPECT_TRUE(ManifoldSolver::null_space(Eigen::MatrixXd(0, 3)).isIdentity());
+  const Eigen::MatrixXd full = Eigen::MatrixXd::Identity(3, 3) * 2;
+  EXPECT_EQ(ManifoldSolver::null_space(full).rows(), 3);
+  EXPECT_EQ(ManifoldSolver::null_space(full).cols(), 0);
+  Eigen::MatrixXd rows(3, 5);
+  rows << 1, 2, 0, 0, 1,  //
+      0, 1, 1, 0, 0,      //
+      1, 3, 1, 0, 1;      // the sum of the first two
+  const Eigen::MatrixXd z = ManifoldSolver::null_space(rows);
+  ASSERT_EQ(z.cols(), 3);
+  EXPECT_LT((rows * z).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((z.transpose() * z - Eigen::MatrixXd::Identity(3, 3)).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(StopClock, ACallEndsItForEveryLaterCheck) {
   const StopClock none;
   EXPECT_FALSE(none.passed());

@@ -78,6 +78,9 @@ Eigen::MatrixXd ManifoldSolver::null_space(const Eigen::MatrixXd& m) {
   const double tol = std::max(1e-12, 1e-9 * (pivots.size() ? pivots[0] : 0.0));
   int rank = 0;
   for (int i = 0; i < pivots.size(); ++i) rank += pivots[i] > tol ? 1 : 0;
+  // Nothing may move: no columns (Eigen's Householder product offsets a null pointer on an
+  // empty matrix, which UBSan calls undefined).
+  if (rank >= n) return Eigen::MatrixXd(n, 0);
   Eigen::MatrixXd basis = Eigen::MatrixXd::Identity(n, n).rightCols(n - rank);
   basis.applyOnTheLeft(qr.householderQ());
   return basis;
