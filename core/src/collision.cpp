@@ -1,9 +1,12 @@
-// The only translation unit that includes FCL.
+// The only translation unit that includes FCL. Its GJK distance (libccd's algorithm with FCL's
+// distance extension) is compiled here from FCL's headers, on our own support mapping of each
+// piece (its vertices and round rims), rather than called through libfcl.so: the library's
+// 29,183 symbol relocations were most of the dynamic loader's work at every start of a fabkit
+// process, and its convex shapes cost more to build than the queries needed (docs/hacks.md).
 #include "fabkit/core/collision.h"
 
 #include <ccd/ccd.h>
-#include <fcl/fcl.h>
-#include <fcl/narrowphase/detail/convexity_based_algorithm/gjk_libccd.h>
+#include <fcl/narrowphase/detail/convexity_based_algorithm/gjk_libccd-inl.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,10 +15,22 @@
 #include <string_view>
 #include <unordered_map>
 
+// The one instantiation used, defined here (the header declares it extern for libfcl.so).
+namespace fcl::detail {
+template bool GJKDistance<double>(void* obj1,
+                                  ccd_support_fn supp1,
+                                  void* obj2,
+                                  ccd_support_fn supp2,
+                                  unsigned int max_iterations,
+                                  double tolerance,
+                                  double* dist,
+                                  Vector3d* p1,
+                                  Vector3d* p2);
+}  // namespace fcl::detail
+
 namespace fabkit::collision {
 
 struct Body::Pieces {
-  std::vector<std::shared_ptr<fcl::Convexd>> shapes;
   std::vector<int> tags;
   std::vector<Vec3> lo, hi;
   std::vector<Vec3> centre;
@@ -57,23 +72,6 @@ Body::Body(std::span<const TriangleMesh> pieces,
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     const TriangleMesh& m = pieces[i];
     if (m.vertices.size() < 4 || m.faces.empty()) continue;
-    auto vertices = std::make_shared<std::vector<fcl::Vector3d>>();
-    vertices->reserve(m.vertices.size());
-    for (const Vec3& v : m.vertices) vertices->emplace_back(v.x(), v.y(), v.z());
-    auto faces = std::make_shared<std::vector<int>>();
-    faces->reserve(m.faces.size() * 4);
-    for (const Eigen::Vector3i& f : m.faces) {
-      faces->push_back(3);
-      faces->push_back(f[0]);
-      faces->push_back(f[1]);
-      faces->push_back(f[2]);
-    }
-    // Faces are only a hint for FCL's vertex walk; a piece whose triangulation it does not
-    // accept is searched vertex by vertex (no throw).
-    auto shape = std::make_shared<fcl::Convexd>(
-        vertices, static_cast<int>(m.faces.size()), faces, /*throw_if_invalid=*/false);
-    shape->computeLocalAABB();
-    out->shapes.push_back(std::move(shape));
     out->tags.push_back(i < tags.size() ? tags[i] : -1);
     const std::vector<Arc> rims = i < arcs.size() ? arcs[i] : std::vector<Arc>{};
     Vec3 lo = m.bounds_min();
@@ -99,7 +97,7 @@ Body::Body(std::span<const TriangleMesh> pieces,
 }
 
 int Body::piece_count() const {
-  return pieces_ ? static_cast<int>(pieces_->shapes.size()) : 0;
+  return pieces_ ? static_cast<int>(pieces_->tags.size()) : 0;
 }
 int Body::tag(int piece) const {
   return pieces_->tags.at(static_cast<std::size_t>(piece));
@@ -123,7 +121,7 @@ namespace {
 
 // Bodies already built in this process, by their contents: a design's copies of one part (the
 // S-hooks of a chain, the eye hooks of a basket) and later solves of the same parts share one
-// set of FCL shapes instead of building a convex shape per piece per copy (24 S-hooks: a sixth
+// set of pieces instead of building them per copy (24 S-hooks: a sixth
 // of 8 independent cycles' solve). Keyed by every number the body is built from, compared
 // exactly; bounded, and emptied when full (bodies in use live on in their owners).
 class BodyLibrary {
@@ -201,17 +199,6 @@ Body CachedBody::get(std::span<const TriangleMesh> pieces,
   return *body_;
 }
 
-namespace {
-
-fcl::Transform3d to_fcl(const Mat4& m) {
-  fcl::Transform3d t = fcl::Transform3d::Identity();
-  t.linear() = m.topLeftCorner<3, 3>();
-  t.translation() = m.topRightCorner<3, 1>();
-  return t;
-}
-
-}  // namespace
-
 Box world_box(const Vec3& lo, const Vec3& hi, const Mat4& t) {
   const Mat3 r = t.topLeftCorner<3, 3>();
   const Vec3 c = r * (0.5 * (lo + hi)) + t.topRightCorner<3, 1>();
@@ -288,51 +275,34 @@ Proximity piece_distance(
                         tb.topLeftCorner<3, 3>(),
                         tb.topRightCorner<3, 1>(),
                         tb.topLeftCorner<3, 3>() * B.centre[ib] + tb.topRightCorner<3, 1>()};
-  // Apart: GJK distance and nearest points. (FCL's signed distance runs EPA, which asserts on
-  // touching and nearly degenerate pairs; overlaps go to libccd's MPR below.) Pieces with
-  // round rims go through the same GJK with their exact support mapping; its tolerance is
-  // tight because a round piece's nearest points, and so the contact normal, converge only
-  // as the square root of the distance's.
-  fcl::DistanceRequestd request;
-  request.enable_nearest_points = true;
-  request.enable_signed_distance = false;
-  request.gjk_solver_type = fcl::GST_LIBCCD;
+  // Apart: GJK distance and nearest points, on each piece's exact support mapping (its
+  // vertices and round rims). Overlaps go to libccd's MPR below. The tolerance of round pieces
+  // is tight because their nearest points, and so the contact normal, converge only as the
+  // square root of the distance's; flat pieces keep FCL's own (10⁻⁶ mm, 1,000 iterations).
   const bool round = !A.arcs[ia].empty() || !B.arcs[ib].empty();
+  struct Nearest {
+    double min_distance = -1;
+    Vec3 nearest_points[2] = {Vec3::Zero(), Vec3::Zero()};
+  };
   auto gjk = [&](const Vec3& shift) {
-    fcl::DistanceResultd out;
-    if (!round) {
-      Mat4 moved = tb;
-      moved.topRightCorner<3, 1>() += shift;
-      fcl::distance(
-          A.shapes[ia].get(), to_fcl(ta), B.shapes[ib].get(), to_fcl(moved), request, out);
-      return out;
-    }
+    Nearest out;
     Placed b_moved = pb_world;
     b_moved.t += shift;
     b_moved.centre += shift;
     Placed a_copy = pa_world;
     double d = -1;
     fcl::Vector3d near_a = fcl::Vector3d::Zero(), near_b = fcl::Vector3d::Zero();
-    constexpr unsigned kRoundIterations = 500;
-    constexpr double kRoundTolerance = 1e-12;
-    if (fcl::detail::GJKDistance<double>(&a_copy,
-                                         support,
-                                         &b_moved,
-                                         support,
-                                         kRoundIterations,
-                                         kRoundTolerance,
-                                         &d,
-                                         &near_a,
-                                         &near_b)) {
+    const unsigned iterations = round ? 500 : 1000;
+    const double tolerance = round ? 1e-12 : 1e-6;
+    if (fcl::detail::GJKDistance<double>(
+            &a_copy, support, &b_moved, support, iterations, tolerance, &d, &near_a, &near_b)) {
       out.min_distance = d;
       out.nearest_points[0] = near_a;
       out.nearest_points[1] = near_b;
-    } else {
-      out.min_distance = -1;
     }
     return out;
   };
-  const fcl::DistanceResultd result = gjk(Vec3::Zero());
+  const Nearest result = gjk(Vec3::Zero());
   // Round pieces: GJK finds their nearest points only to about 1e-9 mm, so when they (nearly)
   // touch, the direction between those points is not the normal. Moving b away along the
   // true normal keeps the same nearest points; moving it along a guess tilts the normal found
@@ -343,7 +313,7 @@ Proximity piece_distance(
     bool found = false;
     for (int k = 0; k < 4; ++k) {
       const Vec3 shift = (kShiftMm + std::max(0.0, -distance_now)) * guess;
-      const fcl::DistanceResultd apart = gjk(shift);
+      const Nearest apart = gjk(shift);
       if (!(apart.min_distance > 1e-9)) break;
       const Vec3 b_moved = apart.nearest_points[1];
       const Vec3 normal = (b_moved - Vec3(apart.nearest_points[0])).normalized();
@@ -394,7 +364,7 @@ Proximity piece_distance(
     const Vec3 away = centre_line;
     for (const double step : {0.05, 1.0}) {
       const Vec3 shift = step * away;
-      const fcl::DistanceResultd apart = gjk(shift);
+      const Nearest apart = gjk(shift);
       if (apart.min_distance > 1e-9) {
         p.distance = -depth_now;
         p.point_a = apart.nearest_points[0];

@@ -1,7 +1,8 @@
 #pragma once
-/// Distance and penetration between rigid bodies made of convex pieces (FCL with libccd's
-/// GJK/EPA; fabkit::core, core/src/collision.cpp only). Every kit that must keep parts from
-/// passing through each other asks here.
+/// Distance and penetration between rigid bodies made of convex pieces (FCL's GJK distance
+/// and libccd's MPR penetration on each piece's support mapping; fabkit::core,
+/// core/src/collision.cpp only). Every kit that must keep parts from passing through each
+/// other asks here.
 ///
 /// A body is a list of convex pieces — closed convex triangle meshes in the body's own
 /// coordinates (mm) — each with a tag the caller chooses (which connector it draws, or -1 for
