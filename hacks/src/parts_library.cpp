@@ -149,8 +149,13 @@ class PartFileReader {
       }
     }
     for (SplitFile::Span& e : f.entries) {
+      // Identity lines, and what continues their values on deeper lines (a folded
+      // description, an alias list written one per line).
       std::size_t k = e.first + 1;
-      while (k < e.end && (blank_or_comment(f.lines[k]) || identity_line(f.lines[k]))) ++k;
+      while (k < e.end && (blank_or_comment(f.lines[k]) || identity_line(f.lines[k]) ||
+                           starts(f.lines[k], "      "))) {
+        ++k;
+      }
       e.head_end = k;
       for (; k < e.end; ++k) {
         if (identity_line(f.lines[k])) return std::nullopt;  // an identity key further down

@@ -482,7 +482,11 @@ TEST_F(PartFiles, OnFirstUseReadsEachEntryAtItsOwnLines) {
       "      - {name: peg, type: rod, radius: 2, length: 30}\n"
       "    mass: 120\n"
       "  - name: BadPeg\n"
-      "    aliases: [WrongPeg]\n"
+      "    aliases:\n"
+      "      - WrongPeg\n"
+      "    description: >\n"
+      "      a peg whose radius\n"
+      "      is wrong\n"
       "    primitives:\n"
       "      - {name: peg, type: rod, radius: -3, length: 10}\n";
   PartsLibrary lib;
@@ -495,6 +499,7 @@ TEST_F(PartFiles, OnFirstUseReadsEachEntryAtItsOwnLines) {
   EXPECT_EQ(good->description, "a peg");
   EXPECT_EQ(good->category, PartCategory::kHack);
   EXPECT_EQ(lib.find("WrongPeg"), lib.find("BadPeg"));
+  EXPECT_EQ(lib.find("BadPeg")->description, "a peg whose radius is wrong\n");
   const Part peg = good->build({});
   ASSERT_EQ(peg.primitives.size(), 1u);
   EXPECT_DOUBLE_EQ(peg.primitives[0].shape.radius, 2);
@@ -504,7 +509,7 @@ TEST_F(PartFiles, OnFirstUseReadsEachEntryAtItsOwnLines) {
     ADD_FAILURE() << "a part with a negative radius was built";
   } catch (const std::logic_error& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("split.yaml:14"), std::string::npos) << what;
+    EXPECT_NE(what.find("split.yaml:18"), std::string::npos) << what;
     EXPECT_NE(what.find("-3"), std::string::npos) << what;
   }
   // An identity mistake is still reported at load, at its line.
