@@ -13,31 +13,37 @@
 
 #include "fabkit/core/file_io.h"
 #include "fabkit/core/yaml_reader.h"
-#include "fabkit/server/editor_server.h"
 #include "kits.h"
 
 namespace fabkit::cli {
 
 std::span<const KitCommands> kits() {
+#ifdef FABKIT_CLI_HACKS_ONLY
+  // fabkit-hacks (cli/src/launcher.cpp): the hacks kit alone.
+  static constexpr std::array<KitCommands, 1> kAll = {
+#else
   static constexpr std::array<KitCommands, 4> kAll = {
-      KitCommands{"hacks",
-                  "fixture hacks from everyday parts (FabHaL); build solves and exports",
-                  hacks_check,
-                  hacks_build},
-      KitCommands{"flatpack",
-                  "flat-pack furniture from planar pieces; build writes cut sheets and a 3D model",
-                  flatpack_check,
-                  flatpack_build},
-      KitCommands{"rods",
-                  "rod-and-joint structures (RodSteward); build writes printable joints, a cut "
-                  "plan and an assembly order",
-                  rods_check,
-                  rods_build},
-      KitCommands{"templates",
-                  "furniture composed from a database of fabricable templates; build writes the "
-                  "bill of materials, cut diagrams and 3D model",
-                  templates_check,
-                  templates_build},
+#endif
+    KitCommands{"hacks",
+                "fixture hacks from everyday parts (FabHaL); build solves and exports",
+                hacks_check,
+                hacks_build},
+#ifndef FABKIT_CLI_HACKS_ONLY
+    KitCommands{"flatpack",
+                "flat-pack furniture from planar pieces; build writes cut sheets and a 3D model",
+                flatpack_check,
+                flatpack_build},
+    KitCommands{"rods",
+                "rod-and-joint structures (RodSteward); build writes printable joints, a cut "
+                "plan and an assembly order",
+                rods_check,
+                rods_build},
+    KitCommands{"templates",
+                "furniture composed from a database of fabricable templates; build writes the "
+                "bill of materials, cut diagrams and 3D model",
+                templates_check,
+                templates_build},
+#endif
   };
   return kAll;
 }
@@ -152,48 +158,6 @@ int run_python(const std::string& mode,
   std::fprintf(stderr, "error: this fabkit was built without Python (FABKIT_BUILD_PYTHON=OFF)\n");
   return kExitUsage;
 #endif
-}
-
-int run_serve(const ServeSettings& settings) {
-  server::ServerOptions o;
-  o.host = settings.host;
-  o.port = settings.port;
-  if (std::filesystem::is_directory(FABKIT_WEB_DIR)) o.web_root = FABKIT_WEB_DIR;
-  for (const std::string& f : settings.part_files) o.hacks_part_files.emplace_back(f);
-  o.allowed_hosts = settings.allowed_hosts;
-  if (!settings.design.empty()) {
-    Diagnostics d;
-    const auto text = read_input_file(settings.design, "design file", d);
-    if (!text) {
-      print_diagnostics(d);
-      return exit_code(d);
-    }
-    o.initial_design = *text;
-    o.initial_design_name = settings.design;
-  }
-  server::EditorServer server(o);
-  if (server.startup_diagnostics().has_errors()) {
-    print_diagnostics(server.startup_diagnostics());
-    return exit_code(server.startup_diagnostics());
-  }
-  if (!server.bind()) {
-    std::fprintf(stderr, "error: %s\n", server.error().c_str());
-    return kExitUsage;
-  }
-  std::printf("fabkit serve: http://%s:%d/  (API under /api; Ctrl-C to stop)\n",
-              settings.host.c_str(),
-              server.port());
-  if (o.web_root.empty()) {
-    std::printf("note: the web editor is not built (%s is missing); only the API is served\n",
-                FABKIT_WEB_DIR);
-  }
-  if (settings.host != "127.0.0.1" && settings.host != "localhost") {
-    std::printf("warning: listening on %s: other machines can reach this server\n",
-                settings.host.c_str());
-  }
-  std::fflush(stdout);
-  server.listen();
-  return kExitOk;
 }
 
 }  // namespace fabkit::cli

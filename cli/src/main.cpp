@@ -153,6 +153,11 @@ int main(int argc, char** argv) {
     if (*solve_cmd) return run_solve(solve);
     if (*demo_cmd) return run_demo(demo);
     if (*parts_cmd) return run_parts(parts);
+#ifdef FABKIT_CLI_HACKS_ONLY
+    // fabkit-hacks holds the hacks kit alone; the fabkit launcher sends nothing else here.
+    std::fprintf(stderr, "error: %s runs hacks commands only; run fabkit\n", argv[0]);
+    return kExitUsage;
+#else
     if (*burn_cmd) return flatpack_burn_test(burn);
     if (*templates_cmd) {
       templates_settings.action = *templates_list ? "list" : "show";
@@ -164,6 +169,7 @@ int main(int argc, char** argv) {
     }
     if (*sweep_cmd) return run_python("sweep", family, {});
     if (*serve_cmd) return run_serve(serve);
+#endif
   } catch (const std::bad_alloc&) {
     std::fflush(stdout);
     std::fprintf(stderr, "error: out of memory\n");
