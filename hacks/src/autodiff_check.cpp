@@ -135,21 +135,29 @@ double hessian_mismatch(const Assembly& assembly,
   AnalyticEvaluator analytic(p, vars, x, o);
   const std::vector<double> z = to_z(vars, x);
   const int n = static_cast<int>(z.size());
-  // The held target's rows with random multipliers (their constraint numbers follow the
-  // closures'); none for the plain potential.
+  // Holding the target: the closures' rows and the held target's rows, with random
+  // multipliers (the target's constraint numbers follow the closures'). The plain potential's
+  // Hessian is exact without closure rows (step 2 differences their share).
   std::vector<int> rows;
-  Eigen::VectorXd lambda;
+  std::vector<double> multipliers;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  int first = 0;
+  for (const auto& axis : p.free_axes) first += axis ? 5 : 6;
   if (hold_target) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> uniform(-1, 1);
-    int first = 0;
-    for (const auto& axis : p.free_axes) first += axis ? 5 : 6;
-    lambda.resize(kTargetResiduals);
-    for (int i = 0; i < kTargetResiduals; ++i) {
-      rows.push_back(first + i);
-      lambda[i] = uniform(rng) * 1e-3;
+    for (int i = 0; i < first; ++i) {
+      rows.push_back(i);
+      multipliers.push_back(uniform(rng) * 1e-3);
     }
   }
+  if (hold_target) {
+    for (int i = 0; i < kTargetResiduals; ++i) {
+      rows.push_back(first + i);
+      multipliers.push_back(uniform(rng) * 1e-3);
+    }
+  }
+  const Eigen::VectorXd lambda = Eigen::Map<const Eigen::VectorXd>(
+      multipliers.data(), static_cast<Eigen::Index>(multipliers.size()));
   Eigen::MatrixXd exact;
   if (!analytic.lagrangian_hessian(z.data(), rows, lambda, exact)) return 1;
   // ∇f − Σ λᵢ ∇rowᵢ at z (constraint row r is Jacobian row objectives() + r).
@@ -171,7 +179,10 @@ double hessian_mismatch(const Assembly& assembly,
   return worst / largest;
 }
 
-double target_hessian_mismatch(const Assembly& assembly, const std::vector<double>& x, double h) {
+double target_hessian_mismatch(const Assembly& assembly,
+                               const std::vector<double>& x,
+                               std::uint64_t seed,
+                               double h) {
   const Problem p = make_problem(assembly);
   if (!p.target) return 0;
   const Variables vars = select_variables(assembly, /*physics=*/false);
@@ -179,14 +190,28 @@ double target_hessian_mismatch(const Assembly& assembly, const std::vector<doubl
   AnalyticEvaluator analytic(p, vars, x, Objective::kTarget);
   const std::vector<double> z = to_z(vars, x);
   const int n = static_cast<int>(z.size());
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  std::vector<int> rows;
+  Eigen::VectorXd lambda(analytic.equalities());
+  for (int i = 0; i < analytic.equalities(); ++i) {
+    rows.push_back(i);
+    lambda[i] = uniform(rng) * 1e-3;
+  }
   Eigen::MatrixXd exact;
-  if (!analytic.lagrangian_hessian(z.data(), {}, Eigen::VectorXd(), exact)) return 1;
-  // The gradient Jᵀr of ½‖r‖² at z.
+  if (!analytic.lagrangian_hessian(z.data(), rows, lambda, exact)) return 1;
+  // The gradient Jᵀr − Σ λ∇h at z.
   auto gradient = [&](const std::vector<double>& at) {
     analytic.evaluate(at.data());
     Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
-    for (int i = 0; i < analytic.objectives(); ++i) {
-      for (int k = 0; k < n; ++k) g[k] += analytic.value(i) * analytic.gradient(i, k);
+    for (int k = 0; k < n; ++k) {
+      for (int i = 0; i < analytic.objectives(); ++i) {
+        g[k] += analytic.value(i) * analytic.gradient(i, k);
+      }
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        g[k] -= lambda[static_cast<Eigen::Index>(i)] *
+                analytic.gradient(analytic.objectives() + rows[i], k);
+      }
     }
     return g;
   };

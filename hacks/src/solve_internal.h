@@ -21,10 +21,10 @@ double finite_difference_mismatch(const Assembly& assembly,
                                   double h = 1e-6);
 
 /// Largest difference between the analytic Hessian of step 2's Lagrangian
-/// (AnalyticEvaluator::lagrangian_hessian: the potential's, with `hold_target` also the held
-/// target's rows under random multipliers from `seed`) and central finite differences of its
-/// analytic gradient (step `h` in scaled units), relative to the largest entry; 0 if nothing
-/// moves (or no target is held).
+/// (AnalyticEvaluator::lagrangian_hessian: the potential's; with `hold_target` also the
+/// closures' and the held target's rows under random multipliers from `seed`) and central
+/// finite differences of its analytic gradient (step `h` in scaled units), relative to the
+/// largest entry; 0 if nothing moves (or no target is held).
 double hessian_mismatch(const Assembly& assembly,
                         const std::vector<double>& x,
                         bool hold_target,
@@ -38,10 +38,12 @@ double closure_search_jacobian_mismatch(const Assembly& assembly,
                                         const std::vector<double>& x,
                                         double rotation_weight = 1.0);
 
-/// The same for step 1's objective ½‖r‖² of the target's residuals: its exact Hessian
-/// JᵀJ + Σ rᵢ∇²rᵢ against central differences of its gradient Jᵀr; 0 without a target.
+/// The same for step 1's Lagrangian, ½‖r‖² of the target's residuals with the closures' rows
+/// under random multipliers: its exact Hessian JᵀJ + Σ rᵢ∇²rᵢ − Σ λ∇²h against central
+/// differences of its gradient; 0 without a target.
 double target_hessian_mismatch(const Assembly& assembly,
                                const std::vector<double>& x,
+                               std::uint64_t seed = 1,
                                double h = 1e-5);
 
 }  // namespace fabkit::hacks::detail

@@ -151,10 +151,10 @@ TEST(Properties, AnalyticDerivativesMatchFiniteDifferencesOnRandomConfigurations
   }
 }
 
-// The exact Hessian of step 2's Lagrangian (the potential's, and the held target's rows when
-// settling) and of step 1's least squares against central differences of its exact gradient, on
-// random configurations of every gallery design and of a long S-hook chain (connections of several
-// kinds, branches, cycles, targets with and without symmetry).
+// The exact Hessian of step 2's Lagrangian (the potential's, the closures' rows, and the held
+// target's rows when settling) and of step 1's least squares against central differences of its
+// exact gradient, on random configurations of every gallery design and of a long S-hook chain
+// (connections of several kinds, branches, cycles, targets with and without symmetry).
 TEST(Properties, AnalyticHessianMatchesFiniteDifferencesOnRandomConfigurations) {
   std::mt19937_64 rng(23);
   std::vector<Design> designs;
@@ -176,7 +176,7 @@ TEST(Properties, AnalyticHessianMatchesFiniteDifferencesOnRandomConfigurations) 
       EXPECT_LT(detail::hessian_mismatch(d.assembly, x, true, 100 + trial), 1e-6)
           << d.name << " holding its target, " << trial;
       // Step 1's ½‖r‖² of the target's residuals (its Newton finish).
-      EXPECT_LT(detail::target_hessian_mismatch(d.assembly, x), 1e-6)
+      EXPECT_LT(detail::target_hessian_mismatch(d.assembly, x, 200 + trial), 1e-6)
           << d.name << " reaching for its target, " << trial;
     }
   }
