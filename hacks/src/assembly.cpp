@@ -754,6 +754,22 @@ void Assembly::set_values(std::vector<double> x) {
   if (x.size() == values_.size()) values_ = std::move(x);
 }
 
+std::vector<char> Assembly::parts_moved_by(const std::vector<int>& varied) const {
+  std::vector<char> varied_connection(connections_.size(), 0);
+  for (int index : varied) {
+    varied_connection[params_.at(static_cast<std::size_t>(index)).connection.index()] = 1;
+  }
+  std::vector<char> moving(parts_.size(), 0);
+  // Parents always precede children in insertion order.
+  for (std::size_t i = 0; i < parts_.size(); ++i) {
+    const ConnectionId up = graph_.parent_edge(PartId{static_cast<int>(i)});
+    if (!up.valid()) continue;
+    const Connection& c = connections_[up.index()];
+    moving[i] = varied_connection[up.index()] || moving[c.first.part.index()];
+  }
+  return moving;
+}
+
 std::vector<Mat4> Assembly::part_frames(const std::vector<double>& x) const {
   std::vector<Mat4> out;
   out.reserve(parts_.size());

@@ -179,6 +179,8 @@ class AnalyticClosureCost : public ceres::CostFunction {
  public:
   explicit AnalyticClosureCost(const ClosureCost& cost) : cost_(cost) {
     const Assembly& a = *cost.assembly;
+    moving_ = a.parts_moved_by(cost.layout->variables);
+    fixed_frames_ = a.all_part_frames<double>(cost.base.data());
     const std::size_t parts = a.nodes().size();
     below_.assign(a.connections().size(), std::vector<char>(parts, 0));
     for (int q = 0; q < a.part_count(); ++q) {
@@ -202,7 +204,8 @@ class AnalyticClosureCost : public ceres::CostFunction {
     for (std::size_t k = 0; k < m; ++k) {
       x[static_cast<std::size_t>(layout.variables[k])] = parameters[0][k];
     }
-    const std::vector<Rigid<double>> frames = a.all_part_frames<double>(x.data());
+    const std::vector<Rigid<double>> frames =
+        a.all_part_frames<double>(x.data(), moving_, fixed_frames_);
     struct Closure {
       Rigid<double> f1, f2;
       int part1, part2;
@@ -330,6 +333,9 @@ class AnalyticClosureCost : public ceres::CostFunction {
  private:
   const ClosureCost& cost_;
   std::vector<std::vector<char>> below_;  // [connection][part]: part hangs below it
+  // Parts the variables move, and every part's frame at the cost's base (the others stay).
+  std::vector<char> moving_;
+  std::vector<Rigid<double>> fixed_frames_;
 };
 
 double cost_at(const ClosureCost& functor, const std::vector<double>& z) {

@@ -116,7 +116,8 @@ bool AnalyticEvaluator::exact_lagrangian_hessian(const double* z,
   if (closures_curve && objective_ == Objective::kEnergy) return false;
   const Assembly& a = *problem_.assembly;
   const std::vector<double> x = expand<double>(vars_, base_, z);
-  const std::vector<Rigid<double>> frames = a.all_part_frames<double>(x.data());
+  const std::vector<Rigid<double>> frames =
+      a.all_part_frames<double>(x.data(), moving_, fixed_frames_);
   const std::vector<Vec3> weighted = least_squares
                                          ? std::vector<Vec3>(a.connections().size(), Vec3::Zero())
                                          : weighted_centres_below(frames);

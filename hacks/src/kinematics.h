@@ -186,6 +186,8 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
         n_(static_cast<int>(v.index.size())) {
     const Assembly& a = *p.assembly;
     rows_ = cost_.residual_count();
+    moving_ = a.parts_moved_by(v.index);
+    fixed_frames_ = a.all_part_frames<double>(base_.data());
     // Parts below each tree connection (the child and its descendants).
     below_.resize(a.connections().size());
     is_below_.assign(a.connections().size(), std::vector<char>(a.nodes().size(), 0));
@@ -260,7 +262,8 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     const std::vector<double> x = expand<double>(vars_, base_, z);
     values_.assign(static_cast<std::size_t>(rows_), 0.0);
     jacobian_.assign(static_cast<std::size_t>(rows_ * n_), 0.0);
-    const std::vector<Rigid<double>> frames = a.all_part_frames<double>(x.data());
+    const std::vector<Rigid<double>> frames =
+        a.all_part_frames<double>(x.data(), moving_, fixed_frames_);
     cost_.fill<double>(x, frames, values_.data());
     // What hangs below each tree connection, for the potential's slope.
     std::vector<Vec3> weighted_below;
@@ -571,6 +574,9 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
   std::vector<std::vector<char>> is_below_;  // [connection][part]: part is below it
   std::vector<double> mass_below_;           // [connection]: share of the total mass below it
   std::vector<int> child_;                   // [connection]: the part just below it, or -1
+  // Parts the variables move, and every part's frame at base_ (the others stay there).
+  std::vector<char> moving_;
+  std::vector<Rigid<double>> fixed_frames_;
   std::vector<Slot> slots_;
   std::vector<double> last_, values_, jacobian_;
   // Per connector side (2 per connection): its local twists at the point being evaluated.

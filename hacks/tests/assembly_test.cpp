@@ -167,6 +167,59 @@ TEST(Assembly, ConnectDecidesTreeOrCycle) {
   EXPECT_EQ(a.connections_of(PartId{3}, PrimitiveId{0}).size(), 2u);
 }
 
+// A group's solve recomputes only the frames its parameters move: the parts below a varied
+// connection move, the others keep the frames they had, and together they are the frames of
+// the whole assembly at the new parameters.
+TEST(Assembly, PartialFramesAreTheFramesOfTheWholeAssembly) {
+  auto rods = make_part("ClosetRods");
+  auto eye1 = make_part("HookEyeConnector");
+  auto eye2 = make_part("HookEyeConnector");
+  auto basket = make_part("RoundHandleBasket");
+  auto hook = make_part("DoubleHook");
+  Assembly a;
+  a.add(rods, Frame(Vec3(0, 0, 200), Vec3(0, 0, -90)));
+  ConnectOptions flip;
+  flip.alignment = AlignmentChoice::kFlip;
+  ASSERT_TRUE(a.connect({eye1, "hole"}, {rods, "rod1"}, flip).accepted);
+  ASSERT_TRUE(a.connect({eye2, "hole"}, {rods, "rod2"}).accepted);
+  ASSERT_TRUE(a.connect({basket, "hook"}, {eye1, "hook"}).accepted);
+  ASSERT_TRUE(a.connect({hook, "hook1"}, {eye2, "hook"}).accepted);
+  const std::vector<double> base = a.values();
+  // The parameters of eye hook 1's connection to its rod: eye hook 1 and the basket below it
+  // move; the rods, eye hook 2 and the S-hook on it do not.
+  std::vector<int> varied;
+  for (int i = 0; i < a.parameter_count(); ++i) {
+    if (a.parameters()[static_cast<std::size_t>(i)].connection.value == 0) varied.push_back(i);
+  }
+  ASSERT_FALSE(varied.empty());
+  const std::vector<char> moving = a.parts_moved_by(varied);
+  ASSERT_EQ(moving.size(), 5u);
+  EXPECT_EQ(std::vector<char>(moving.begin(), moving.end()), (std::vector<char>{0, 1, 0, 1, 0}));
+  const std::vector<Rigid<double>> fixed = a.all_part_frames<double>(base.data());
+  std::vector<double> x = base;
+  for (int i : varied) {
+    const ParamSpec& spec = a.parameters()[static_cast<std::size_t>(i)].spec;
+    x[static_cast<std::size_t>(i)] = spec.lo + 0.37 * (spec.hi - spec.lo);
+  }
+  const std::vector<Rigid<double>> whole = a.all_part_frames<double>(x.data());
+  const std::vector<Rigid<double>> partial = a.all_part_frames<double>(x.data(), moving, fixed);
+  ASSERT_EQ(partial.size(), whole.size());
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    EXPECT_LT((partial[i].t - whole[i].t).norm(), 1e-12) << "part " << i;
+    EXPECT_LT((partial[i].R - whole[i].R).norm(), 1e-12) << "part " << i;
+  }
+  // The eye hook really moved (the test would pass trivially otherwise).
+  EXPECT_GT((whole[1].t - fixed[1].t).norm(), 1.0);
+  // A varied parameter of the S-hook's connection moves the S-hook alone.
+  std::vector<int> on_hook;
+  for (int i = 0; i < a.parameter_count(); ++i) {
+    if (a.parameters()[static_cast<std::size_t>(i)].connection.value == 3) on_hook.push_back(i);
+  }
+  const std::vector<char> hook_moving = a.parts_moved_by(on_hook);
+  EXPECT_EQ(std::vector<char>(hook_moving.begin(), hook_moving.end()),
+            (std::vector<char>{0, 0, 0, 0, 1}));
+}
+
 TEST(Assembly, EndWithTargetsThePartsFirstPrimitive) {
   auto env = rod_environment(5, 500);
   auto bottle = make_part("SoapBottle");

@@ -201,6 +201,16 @@ class Assembly {
   /// World frames of every part at once (parents before children), differentiable in x.
   template <class T>
   std::vector<Rigid<T>> all_part_frames(const T* x) const;
+  /// Which parts move when the parameters `varied` (indices into x) change: the child of every
+  /// tree connection with a varied parameter, and everything below it.
+  std::vector<char> parts_moved_by(const std::vector<int>& varied) const;
+  /// all_part_frames(x), recomputing only the parts `moving` marks and taking the others from
+  /// `fixed` (frames computed where x agrees with it on every parameter not varied): a solve
+  /// of one of several independent groups then costs what the group costs.
+  template <class T>
+  std::vector<Rigid<T>> all_part_frames(const T* x,
+                                        const std::vector<char>& moving,
+                                        const std::vector<Rigid<double>>& fixed) const;
   /// World frames of a connection's two connector frames, the first including the
   /// alignment offset; equal when the connection is closed.
   template <class T>
@@ -298,6 +308,30 @@ std::vector<Rigid<T>> Assembly::all_part_frames(const T* x) const {
       out.push_back(n.placement.template cast<T>());
       continue;
     }
+    const Connection& c = connections_[up.index()];
+    const Primitive& child = n.part->primitive(c.second.primitive);
+    Rigid<T> child_connector = c.second.base.template cast<T>();
+    apply_connector<T>(child.connector_kind(), child.shape, x + c.second.offset, child_connector);
+    out.push_back(connector_world<T>(c.first, out[c.first.part.index()], x).then(c.offset_rigid) *
+                  child_connector.inverse());
+  }
+  return out;
+}
+
+template <class T>
+std::vector<Rigid<T>> Assembly::all_part_frames(const T* x,
+                                                const std::vector<char>& moving,
+                                                const std::vector<Rigid<double>>& fixed) const {
+  std::vector<Rigid<T>> out;
+  out.reserve(parts_.size());
+  // Parents always precede children in insertion order.
+  for (std::size_t i = 0; i < parts_.size(); ++i) {
+    if (!moving[i]) {
+      out.push_back(fixed[i].template cast<T>());
+      continue;
+    }
+    const PartNode& n = parts_[i];
+    const ConnectionId up = graph_.parent_edge(PartId{static_cast<int>(i)});
     const Connection& c = connections_[up.index()];
     const Primitive& child = n.part->primitive(c.second.primitive);
     Rigid<T> child_connector = c.second.base.template cast<T>();
