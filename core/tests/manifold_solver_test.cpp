@@ -170,6 +170,35 @@ TEST(ManifoldSolver, NullSpaceOfRedundantAndFullRows) {
   EXPECT_LT((z.transpose() * z - Eigen::MatrixXd::Identity(3, 3)).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// The projection's step: it solves the rows, consistently redundant ones included, and is the
+// shortest such step (orthogonal to the null space); nothing to solve gives no step.
+TEST(ManifoldSolver, MinimumNormSolutionOfRedundantAndFullRows) {
+  EXPECT_EQ(ManifoldSolver::min_norm_solution(Eigen::MatrixXd(0, 4), Eigen::VectorXd(0)),
+            Eigen::VectorXd::Zero(4));
+  EXPECT_EQ(ManifoldSolver::min_norm_solution(Eigen::MatrixXd::Zero(2, 3), Eigen::Vector2d(0, 0)),
+            Eigen::VectorXd::Zero(3));
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal;
+  for (int redundant = 0; redundant <= 1; ++redundant) {
+    Eigen::MatrixXd a(4, 7);
+    for (int i = 0; i < a.rows(); ++i)
+      for (int j = 0; j < a.cols(); ++j) a(i, j) = normal(rng);
+    Eigen::VectorXd b(4);
+    for (int i = 0; i < 4; ++i) b[i] = normal(rng);
+    if (redundant) {
+      a.row(3) = 2 * a.row(0) - a.row(1);  // a fixed joint's rows: one the others imply
+      b[3] = 2 * b[0] - b[1];
+    }
+    const Eigen::VectorXd x = ManifoldSolver::min_norm_solution(a, b);
+    EXPECT_LT((a * x - b).cwiseAbs().maxCoeff(), 1e-10) << "redundant " << redundant;
+    const Eigen::MatrixXd z = ManifoldSolver::null_space(a);
+    EXPECT_EQ(z.cols(), redundant ? 4 : 3);
+    EXPECT_LT((z.transpose() * x).cwiseAbs().maxCoeff(), 1e-10) << "redundant " << redundant;
+    // The same as the complete orthogonal decomposition's minimum-norm answer.
+    EXPECT_LT((x - a.completeOrthogonalDecomposition().solve(b)).cwiseAbs().maxCoeff(), 1e-9);
+  }
+}
+
 TEST(StopClock, ACallEndsItForEveryLaterCheck) {
   const StopClock none;
   EXPECT_FALSE(none.passed());

@@ -86,6 +86,27 @@ Eigen::MatrixXd ManifoldSolver::null_space(const Eigen::MatrixXd& m) {
   return basis;
 }
 
+// aᵀ·P = Q·R, so a = P·Rᵀ·Qᵀ and x = Q·[y; 0] with R₁₁ᵀ·y = (Pᵀ·b) over the first `rank` rows.
+Eigen::VectorXd ManifoldSolver::min_norm_solution(const Eigen::MatrixXd& a,
+                                                  const Eigen::VectorXd& b) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(a.cols());
+  if (a.rows() == 0 || a.cols() == 0) return x;  // Eigen's QR of an empty matrix is undefined
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a.transpose());
+  const Eigen::VectorXd pivots = qr.matrixQR().diagonal().cwiseAbs();
+  const double tol = std::max(1e-12, 1e-9 * (pivots.size() ? pivots[0] : 0.0));
+  int rank = 0;
+  while (rank < pivots.size() && pivots[rank] > tol) ++rank;
+  if (rank == 0) return x;
+  const Eigen::VectorXd permuted = qr.colsPermutation().transpose() * b;
+  x.head(rank) = qr.matrixQR()
+                     .topLeftCorner(rank, rank)
+                     .triangularView<Eigen::Upper>()
+                     .transpose()
+                     .solve(permuted.head(rank));
+  x.applyOnTheLeft(qr.householderQ());
+  return x;
+}
+
 int ManifoldSolver::at_bound(const Eigen::VectorXd& z, int k) const {
   const double tol = 1e-9 * std::max(1.0, hi_[k] - lo_[k]);
   if (std::isfinite(lo_[k]) && z[k] <= lo_[k] + tol) return -1;
@@ -217,7 +238,12 @@ bool ManifoldSolver::project(Point& p) {
     if (p.h.size() == 0 || p.h.cwiseAbs().maxCoeff() < options_.feasibility_tolerance) return true;
     const std::vector<int> free = off_bounds(p);
     if (free.empty()) return false;
-    const Eigen::VectorXd delta = columns(p.J, free).completeOrthogonalDecomposition().solve(-p.h);
+    // Binding contact rows may outnumber the free coordinates and disagree with each other:
+    // those get the least-squares solution of a complete orthogonal decomposition.
+    const Eigen::MatrixXd jf = columns(p.J, free);
+    const Eigen::VectorXd delta =
+        p.binding.empty() ? min_norm_solution(jf, -p.h)
+                          : Eigen::VectorXd(jf.completeOrthogonalDecomposition().solve(-p.h));
     Eigen::VectorXd z = p.z;
     for (std::size_t i = 0; i < free.size(); ++i) z[free[i]] += delta[static_cast<int>(i)];
     const double before = p.h.norm();

@@ -175,6 +175,11 @@ class ManifoldSolver {
   static Eigen::VectorXd rows(const Eigen::VectorXd& v, const std::vector<int>& idx);
   /// Orthonormal basis of the null space of m; all of Rⁿ if m has no rows.
   static Eigen::MatrixXd null_space(const Eigen::MatrixXd& m);
+  /// Minimum-norm solution of a·x = b where a's rows are independent or consistently
+  /// redundant (a fixed joint's closure rows), from a column-pivoted QR of aᵀ with
+  /// null_space()'s rank test: a third of the cost of a complete orthogonal decomposition of
+  /// a, which the projection back onto the constraints used at every Gauss-Newton iteration.
+  static Eigen::VectorXd min_norm_solution(const Eigen::MatrixXd& a, const Eigen::VectorXd& b);
 
  private:
   bool out_of_time() const;
