@@ -47,6 +47,10 @@ struct Problem {
   /// Step 2's tries at unfolding (step2.cpp) left to the relaxations of this problem and its
   /// copies (one group's candidates share them). None: each relaxation gets its own.
   std::shared_ptr<int> unfold_tries;
+  /// Set once a relaxation of this problem or a copy (one group's candidates share it) came to
+  /// rest against an environment only with its contact rows: the next ones watch contacts from
+  /// the start instead of first running without them (avoiding_contacts). None: never.
+  std::shared_ptr<bool> contacts_first;
   /// Whether connection `c` moves parts of this problem's group.
   bool covers(const Assembly& a, ConnectionId c) const;
 };

@@ -188,6 +188,7 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
     Problem problem = make_problem(assembly, g);
     problem.stop = stop;
     problem.unfold_tries = std::make_shared<int>(kUnfoldTriesPerGroup);
+    problem.contacts_first = std::make_shared<bool>(false);
     if (g != target_group) {
       outcomes[static_cast<std::size_t>(g)] = relax_and_judge(problem, step1.x);
       continue;

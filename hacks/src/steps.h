@@ -145,11 +145,28 @@ template <class Run, class Unfold>
 StepResult avoiding_contacts(
     Problem& p, const std::vector<double>& x, Run run, const SolveOptions& o, Unfold unfold) {
   p.watched.clear();
+  // Where an earlier candidate of this group only came to rest against an environment with
+  // its contact rows, the next ones start with them: the same rest wherever no contact binds
+  // (a row that does not bind changes no step), and no plain run to throw away. What does not
+  // come to rest apart that way goes the usual way below.
+  if (p.contacts && p.contacts_first && *p.contacts_first && !past_deadline(p, o)) {
+    Problem kept = p;
+    StepResult apart = with_contacts(kept, x, run);
+    if (apart.closed && apart.converged &&
+        deepest_overlap(kept, apart.x).depth <= kPenetrationToleranceMm) {
+      p = std::move(kept);
+      return apart;
+    }
+    p.watched.clear();
+  }
   StepResult r = run(p, x);
   if (!p.contacts || !r.closed) return r;
   if (past_deadline(p, o)) return r;
   double plain = deepest_overlap(p, r.x).depth;
   if (plain <= kPenetrationToleranceMm) return r;
+  // Parts inside each other (not only inside an environment) are for the unfolding first.
+  const bool environment_only =
+      deepest_overlap(p, r.x, /*parts_only=*/true).depth <= kPenetrationToleranceMm;
   if (auto unfolded = unfold(p, r, plain, false)) {
     r = std::move(unfolded->first);
     plain = unfolded->second;
@@ -167,6 +184,10 @@ StepResult avoiding_contacts(
   // Contact rows are bounded in cost; when they leave the parts deeper in each other than
   // the plain run did, the plain run's result stands (and the verdict reports the overlap).
   if (!apart.closed || apart_depth >= plain) return r;
+  if (p.contacts_first && environment_only && apart.converged &&
+      apart_depth <= kPenetrationToleranceMm) {
+    *p.contacts_first = true;
+  }
   p = std::move(kept);
   return apart;
 }
