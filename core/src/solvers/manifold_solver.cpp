@@ -497,6 +497,11 @@ ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
   return c;
 }
 
+namespace {
+// The trust region's radius at the start of a relaxation, as a share of the longest step.
+constexpr double kInitialRadiusShare = 0.2;
+}  // namespace
+
 ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_iterations) {
   return newton(z0, max_iterations, /*small_curvatures=*/false);
 }
@@ -516,7 +521,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     out.z = cur.z;
     return out;
   }
-  double radius = 0.2 * options_.max_step;
+  double radius = kInitialRadiusShare * options_.max_step;
   int it = 0;
   int motions = n_;  // free motions at the last iteration
   Clock::duration last{};
@@ -656,15 +661,25 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
         continue;
       }
     }
-    if (trial.valid && actual > 0 && rho > 0.1) {
+    // A step that reaches an inequality the model did not have (a part coming to touch
+    // another) is projected onto it and gains far less than promised, however short: the
+    // model, not its reach, is wrong there. Such a step is taken if it lowers the potential,
+    // and the radius starts afresh with the new row in the model (a paper towel roll
+    // reaching the wall's edge shrank it to 10⁻⁵ and took 20 steps to grow it back).
+    const bool binding_changes = trial.valid && trial.binding != cur.binding;
+    bool accepted = false;
+    if (trial.valid && actual > 0 && (rho > 0.1 || binding_changes)) {
       if (lambda_min < 0 && stationary) ++out.escapes;
       cur = std::move(trial);
       model_current = false;
+      accepted = true;
       if (rho > 0.75 && p.norm() > 0.99 * radius) radius = std::min(2 * radius, options_.max_step);
     } else {
       radius *= 0.25;
     }
     if (rho < 0.25) radius = std::min(radius, 0.25 * p.norm());
+    if (accepted && binding_changes)
+      radius = std::max(radius, kInitialRadiusShare * options_.max_step);
     if (radius < 1e-10) break;  // the model cannot find a lower point: as good as it gets
     if (out.escapes > options_.max_escapes) break;
   }
