@@ -80,6 +80,29 @@ TEST(DesignFile, BadDesignsNameLineAndValue) {
   EXPECT_EQ(line_of(d, codes::kDuplicateName), 8);
 }
 
+// Keys that take a mapping given a scalar or a list (the fuzzer found `repeat: op_screw`,
+// which aborted the reader): a diagnostic at the key's line, never a crash.
+TEST(DesignFile, AMappingKeyGivenAScalarOrAListIsReported) {
+  for (const char* repeat : {"op_screw", "[1, 2, 3]", "3"}) {
+    SCOPED_TRACE(repeat);
+    Diagnostics d;
+    read_source_design(std::string(kHeader) +
+                           "design: x\n"
+                           "parts:\n"
+                           "  - name: shelf\n"
+                           "    item: PLY-BIRCH-18\n"
+                           "    center: [0, 0, 518]\n"
+                           "    size: [764, 300, 18]\n"
+                           "    repeat: " +
+                           std::string(repeat) + "\n",
+                       "x.yaml",
+                       d);
+    ASSERT_TRUE(d.has_errors()) << d.format();
+    EXPECT_TRUE(has_diagnostic(d, codes::kMalformedInput, "repeat")) << d.format();
+    EXPECT_EQ(line_of(d, codes::kMalformedInput), 8) << d.format();
+  }
+}
+
 TEST(DesignFile, ItemsMustMakeTheParts) {
   Diagnostics d;
   const auto design = read_source_design(
