@@ -488,7 +488,14 @@ TEST_F(PartFiles, OnFirstUseReadsEachEntryAtItsOwnLines) {
       "      a peg whose radius\n"
       "      is wrong\n"
       "    primitives:\n"
-      "      - {name: peg, type: rod, radius: -3, length: 10}\n";
+      "      - {name: peg, type: rod, radius: -3, length: 10}\n"
+      "  - name: HashPeg\n"
+      "    description: |\n"
+      "      # not a comment: a block scalar's line\n"
+      "      ends here\n"
+      "    primitives:\n"
+      "    # a comment between a key and its list\n"
+      "      - {name: peg, type: rod, radius: 2, length: 30}\n";
   PartsLibrary lib;
   Diagnostics diags;
   ASSERT_TRUE(lib.load_yaml_text(
@@ -500,6 +507,11 @@ TEST_F(PartFiles, OnFirstUseReadsEachEntryAtItsOwnLines) {
   EXPECT_EQ(good->category, PartCategory::kHack);
   EXPECT_EQ(lib.find("WrongPeg"), lib.find("BadPeg"));
   EXPECT_EQ(lib.find("BadPeg")->description, "a peg whose radius is wrong\n");
+  // Comment lines are left out of what yaml-cpp reads; a block scalar's '#' lines are not.
+  ASSERT_NE(lib.find("HashPeg"), nullptr);
+  EXPECT_EQ(lib.find("HashPeg")->description,
+            "# not a comment: a block scalar's line\nends here\n");
+  EXPECT_EQ(lib.find("HashPeg")->build({}).primitives.size(), 1u);
   const Part peg = good->build({});
   ASSERT_EQ(peg.primitives.size(), 1u);
   EXPECT_DOUBLE_EQ(peg.primitives[0].shape.radius, 2);
