@@ -1,6 +1,6 @@
 // fabkit: starts the program that holds what a command needs. A hacks command — solve, demo,
 // parts, and check or build of a hacks design — runs in fabkit-hacks, which loads only the hacks
-// kit and its libraries (the process starts in about 4 ms instead of 11: the other kits bring
+// kit and its libraries (the process starts in about 3 ms instead of 11: the other kits bring
 // lib3MF, OpenSSL, IPOPT with MUMPS and SQLite, docs/benchmarks.md); everything else runs in
 // fabkit-all, which holds every kit. Both sit next to this program. Where a command's kit is
 // not plainly hacks (no readable design, another or no `fabkit:` header, help, version), it

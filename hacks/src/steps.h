@@ -157,15 +157,17 @@ StepResult avoiding_contacts(
       p = std::move(kept);
       return apart;
     }
-    p.watched.clear();
   }
   StepResult r = run(p, x);
   if (!p.contacts || !r.closed) return r;
   if (past_deadline(p, o)) return r;
   double plain = deepest_overlap(p, r.x).depth;
   if (plain <= kPenetrationToleranceMm) return r;
-  // Parts inside each other (not only inside an environment) are for the unfolding first.
+  // Whether the group's later candidates could start with contacts: only where the plain run
+  // passed through nothing but an environment (parts inside each other are for the unfolding
+  // first). Asked once per group: the flag, once set, stays.
   const bool environment_only =
+      p.contacts_first && !*p.contacts_first &&
       deepest_overlap(p, r.x, /*parts_only=*/true).depth <= kPenetrationToleranceMm;
   if (auto unfolded = unfold(p, r, plain, false)) {
     r = std::move(unfolded->first);
@@ -184,8 +186,7 @@ StepResult avoiding_contacts(
   // Contact rows are bounded in cost; when they leave the parts deeper in each other than
   // the plain run did, the plain run's result stands (and the verdict reports the overlap).
   if (!apart.closed || apart_depth >= plain) return r;
-  if (p.contacts_first && environment_only && apart.converged &&
-      apart_depth <= kPenetrationToleranceMm) {
+  if (environment_only && apart.converged && apart_depth <= kPenetrationToleranceMm) {
     *p.contacts_first = true;
   }
   p = std::move(kept);

@@ -66,6 +66,20 @@ Eigen::VectorXd ManifoldSolver::rows(const Eigen::VectorXd& v, const std::vector
   return out;
 }
 
+namespace {
+
+// The rank a column-pivoted QR reveals: pivots above 10⁻⁹ of the largest (and 10⁻¹²), as an
+// SVD would at that tolerance (redundant closure rows leave pivots at round-off).
+int revealed_rank(const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr) {
+  const Eigen::VectorXd pivots = qr.matrixQR().diagonal().cwiseAbs();
+  const double tol = std::max(1e-12, 1e-9 * (pivots.size() ? pivots[0] : 0.0));
+  int rank = 0;
+  while (rank < pivots.size() && pivots[rank] > tol) ++rank;
+  return rank;
+}
+
+}  // namespace
+
 Eigen::MatrixXd ManifoldSolver::null_space(const Eigen::MatrixXd& m) {
   const int n = static_cast<int>(m.cols());
   if (m.rows() == 0 || n == 0) return Eigen::MatrixXd::Identity(n, n);
@@ -74,10 +88,7 @@ Eigen::MatrixXd ManifoldSolver::null_space(const Eigen::MatrixXd& m) {
   // closure rows leave pivots at round-off), without the SVD's Jacobi sweeps, which were a
   // quarter of a cycle design's step 1.
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(m.transpose());
-  const Eigen::VectorXd pivots = qr.matrixQR().diagonal().cwiseAbs();
-  const double tol = std::max(1e-12, 1e-9 * (pivots.size() ? pivots[0] : 0.0));
-  int rank = 0;
-  for (int i = 0; i < pivots.size(); ++i) rank += pivots[i] > tol ? 1 : 0;
+  const int rank = revealed_rank(qr);
   // Nothing may move: no columns (Eigen's Householder product offsets a null pointer on an
   // empty matrix, which UBSan calls undefined).
   if (rank >= n) return Eigen::MatrixXd(n, 0);
@@ -92,10 +103,7 @@ Eigen::VectorXd ManifoldSolver::min_norm_solution(const Eigen::MatrixXd& a,
   Eigen::VectorXd x = Eigen::VectorXd::Zero(a.cols());
   if (a.rows() == 0 || a.cols() == 0) return x;  // Eigen's QR of an empty matrix is undefined
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a.transpose());
-  const Eigen::VectorXd pivots = qr.matrixQR().diagonal().cwiseAbs();
-  const double tol = std::max(1e-12, 1e-9 * (pivots.size() ? pivots[0] : 0.0));
-  int rank = 0;
-  while (rank < pivots.size() && pivots[rank] > tol) ++rank;
+  const int rank = revealed_rank(qr);
   if (rank == 0) return x;
   const Eigen::VectorXd permuted = qr.colsPermutation().transpose() * b;
   x.head(rank) = qr.matrixQR()

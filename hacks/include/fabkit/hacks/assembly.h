@@ -262,6 +262,9 @@ class Assembly {
   Connector make_connector(PartId part, PrimitiveId primitive, std::vector<ParamSpec> params);
   template <class T>
   Rigid<T> connector_world(const Connector& c, const Rigid<T>& part_frame, const T* x) const;
+  /// World frame of the part below tree connection `up`, whose parent part is at `parent`.
+  template <class T>
+  Rigid<T> child_frame(ConnectionId up, const Rigid<T>& parent, const T* x) const;
 
   std::vector<PartNode> parts_;
   KinematicGraph graph_;
@@ -283,17 +286,20 @@ Rigid<T> Assembly::connector_world(const Connector& c, const Rigid<T>& frame, co
 }
 
 template <class T>
-Rigid<T> Assembly::part_frame(PartId id, const T* x) const {
-  const PartNode& n = parts_[id.index()];
-  const ConnectionId up = graph_.parent_edge(id);
-  if (!up.valid()) return n.placement.template cast<T>();
+Rigid<T> Assembly::child_frame(ConnectionId up, const Rigid<T>& parent, const T* x) const {
   const Connection& c = connections_[up.index()];
-  const Primitive& child = n.part->primitive(c.second.primitive);
+  const Primitive& child = parts_[c.second.part.index()].part->primitive(c.second.primitive);
   // Q = P · C_first · A · C_second⁻¹
   Rigid<T> child_connector = c.second.base.template cast<T>();
   apply_connector<T>(child.connector_kind(), child.shape, x + c.second.offset, child_connector);
-  return connector_world<T>(c.first, part_frame<T>(c.first.part, x), x).then(c.offset_rigid) *
-         child_connector.inverse();
+  return connector_world<T>(c.first, parent, x).then(c.offset_rigid) * child_connector.inverse();
+}
+
+template <class T>
+Rigid<T> Assembly::part_frame(PartId id, const T* x) const {
+  const ConnectionId up = graph_.parent_edge(id);
+  if (!up.valid()) return parts_[id.index()].placement.template cast<T>();
+  return child_frame<T>(up, part_frame<T>(connections_[up.index()].first.part, x), x);
 }
 
 template <class T>
@@ -302,18 +308,10 @@ std::vector<Rigid<T>> Assembly::all_part_frames(const T* x) const {
   out.reserve(parts_.size());
   // Parents always precede children in insertion order.
   for (std::size_t i = 0; i < parts_.size(); ++i) {
-    const PartNode& n = parts_[i];
     const ConnectionId up = graph_.parent_edge(PartId{static_cast<int>(i)});
-    if (!up.valid()) {
-      out.push_back(n.placement.template cast<T>());
-      continue;
-    }
-    const Connection& c = connections_[up.index()];
-    const Primitive& child = n.part->primitive(c.second.primitive);
-    Rigid<T> child_connector = c.second.base.template cast<T>();
-    apply_connector<T>(child.connector_kind(), child.shape, x + c.second.offset, child_connector);
-    out.push_back(connector_world<T>(c.first, out[c.first.part.index()], x).then(c.offset_rigid) *
-                  child_connector.inverse());
+    out.push_back(up.valid()
+                      ? child_frame<T>(up, out[connections_[up.index()].first.part.index()], x)
+                      : parts_[i].placement.template cast<T>());
   }
   return out;
 }
@@ -326,18 +324,11 @@ std::vector<Rigid<T>> Assembly::all_part_frames(const T* x,
   out.reserve(parts_.size());
   // Parents always precede children in insertion order.
   for (std::size_t i = 0; i < parts_.size(); ++i) {
-    if (!moving[i]) {
-      out.push_back(fixed[i].template cast<T>());
-      continue;
-    }
-    const PartNode& n = parts_[i];
+    // A moving part always hangs from a tree connection (parts_moved_by).
     const ConnectionId up = graph_.parent_edge(PartId{static_cast<int>(i)});
-    const Connection& c = connections_[up.index()];
-    const Primitive& child = n.part->primitive(c.second.primitive);
-    Rigid<T> child_connector = c.second.base.template cast<T>();
-    apply_connector<T>(child.connector_kind(), child.shape, x + c.second.offset, child_connector);
-    out.push_back(connector_world<T>(c.first, out[c.first.part.index()], x).then(c.offset_rigid) *
-                  child_connector.inverse());
+    out.push_back(moving[i]
+                      ? child_frame<T>(up, out[connections_[up.index()].first.part.index()], x)
+                      : fixed[i].template cast<T>());
   }
   return out;
 }
