@@ -327,18 +327,18 @@ PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closin
   if (common_ancestor) {
     add_segment(path_a.back(), top_a, top_b);
   } else {
-    // Two environments: both are fixed in the world, so measure between them there.
+    // Two environments: both are fixed in the world, so measure between them, in the first
+    // one's frame: the range depends on where one stands relative to the other only, and the
+    // same pair anywhere in the world (a row of rod pairs) is measured once.
     const PartNode& ea = assembly.node(path_a.back());
     const PartNode& eb = assembly.node(path_b.back());
+    const Mat4 b_from_a = rigid_inverse(ea.frame.matrix()) * eb.frame.matrix();
     CycleSegment seg;
     seg.description = fmt::format("between {} and {}",
                                   assembly.label(path_a.back(), top_a),
                                   assembly.label(path_b.back(), top_b));
-    seg.range = connector_distance_range(ea.part->primitive(top_a),
-                                         ea.frame.matrix(),
-                                         eb.part->primitive(top_b),
-                                         eb.frame.matrix(),
-                                         false);
+    seg.range = connector_distance_range(
+        ea.part->primitive(top_a), identity, eb.part->primitive(top_b), b_from_a, false);
     verdict.segments.push_back(seg);
   }
 

@@ -151,6 +151,40 @@ connections:
   EXPECT_EQ(d.steps.back().report.starts_used, 0);
 }
 
+// The bound between two fixed rods depends on where one stands relative to the other, not on
+// where the pair stands in the world (it is measured in the first rod's frame).
+TEST(Verify, CycleTooLongIsRejectedWhereverTheRodsStand) {
+  for (const char* placement : {"{pos: [0, 0, 200], rot: [0, 0, -90]}",
+                                "{pos: [1234.5, -987.25, 3200], rot: [17, -33, 141]}",
+                                "{pos: [-40000, 25000, -6], rot: [180, 90, 0]}"}) {
+    SCOPED_TRACE(placement);
+    const Design d = load_text(fmt::format(R"(environment:
+  - name: rods
+    primitives:
+      rod1: {{type: rod, radius: 6.35, length: 170, frame: {{pos: [0, -500, 0], rot: [90, 0, 180]}}}}
+      rod2: {{type: rod, radius: 6.35, length: 170, frame: {{pos: [0, 500, 0], rot: [90, 0, 180]}}}}
+    frame: {}
+parts:
+  - {{name: eye1, part: HookEyeConnector}}
+  - {{name: eye2, part: HookEyeConnector}}
+  - {{name: basket, part: RoundHandleBasket}}
+connections:
+  - {{connect: [eye1.hole, rods.rod1], alignment: flip}}
+  - connect: [eye2.hole, rods.rod2]
+  - connect: [eye1.hook, basket.hook]
+  - connect: [eye2.hook, basket.hook]
+)",
+                                           placement));
+    ASSERT_TRUE(d.readable) << d.diagnostics.format();
+    EXPECT_FALSE(d.feasible());
+    EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                               codes::kCycleTooLong,
+                               "830 mm between rods.rod2 and rods.rod1 exceeds the 307 mm"))
+        << d.diagnostics.format();
+    EXPECT_EQ(d.steps.back().report.starts_used, 0);
+  }
+}
+
 // (e) the closure search: the distances allow it, the geometry does not.
 TEST(Verify, CycleThatCannotCloseReportsTheBestGap) {
   // A DoubleHook hung from one wall hook must also reach a second wall hook 60 mm away,
