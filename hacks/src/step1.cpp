@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "random.h"
 #include "steps.h"
@@ -116,6 +117,7 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     // Start 1 drags the target: from where the verified configuration puts it to the goal in
     // small steps, each a short fit from the last, as a hand would guide it there. It does not
     // depend on luck, and finds goals the direct fit and the random starts miss.
+    std::optional<StepResult> guided;
     if (start == 1) {
       std::vector<double> x = a.values();
       const Rigid<double> from =
@@ -135,16 +137,21 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
               Eigen::AngleAxisd(std::numbers::pi, *towards.target->symmetry.half_turn_axis);
         }
         AssemblySolver guide(towards, vars, x, Objective::kTarget, o.deadline);
-        const StepResult r = guide.fit(x, k == kSteps ? o.max_iterations : 20);
+        StepResult r = guide.fit(x, k == kSteps ? o.max_iterations : 20);
         if (!r.closed) break;
         x = r.x;
+        // The last step fits the goal itself with a full start's iterations: it is this
+        // start's fit (fitting again from its end would only spend them a second time where
+        // it stopped at the limit, as a long chain's creeping fit does).
+        if (k == kSteps) guided = std::move(r);
       }
       x0 = x;
     }
     // Random starts explore: a fifth of the iterations of the verified start, and they stop
     // early when they are far from beating the best start so far (f = ½‖r‖²).
-    StepResult r = start <= 1 ? solver.fit(x0, o.max_iterations)
-                              : solver.fit(x0, o.max_iterations / 5, 5 * best_score);
+    StepResult r = guided        ? std::move(*guided)
+                   : start <= 1  ? solver.fit(x0, o.max_iterations)
+                                 : solver.fit(x0, o.max_iterations / 5, 5 * best_score);
     best.starts = start + 1;
     if (!r.closed) continue;
     for (std::size_t i = 0; i < r.x.size(); ++i) {
