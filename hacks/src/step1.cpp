@@ -149,9 +149,9 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     }
     // Random starts explore: a fifth of the iterations of the verified start, and they stop
     // early when they are far from beating the best start so far (f = ½‖r‖²).
-    StepResult r = guided        ? std::move(*guided)
-                   : start <= 1  ? solver.fit(x0, o.max_iterations)
-                                 : solver.fit(x0, o.max_iterations / 5, 5 * best_score);
+    StepResult r = guided       ? std::move(*guided)
+                   : start <= 1 ? solver.fit(x0, o.max_iterations)
+                                : solver.fit(x0, o.max_iterations / 5, 5 * best_score);
     best.starts = start + 1;
     if (!r.closed) continue;
     for (std::size_t i = 0; i < r.x.size(); ++i) {
