@@ -246,28 +246,45 @@ DistanceRange measure_distance_range(const Primitive& a,
   auto place = [](const Vec3& v, const Mat4& m) {
     return Vec3(m.topLeftCorner<3, 3>() * v + m.topRightCorner<3, 1>());
   };
-  std::vector<Vec3> pb;
-  pb.reserve(sb.points.size());
-  for (const Vec3& v : sb.points) pb.push_back(place(v, frame_b));
-  double lo = std::numeric_limits<double>::infinity();
-  double hi = -1;
+  // Every pair of samples (thousands × thousands): the second set by coordinate, compared by
+  // squared distance, so the inner loop is plain arithmetic the compiler vectorises; the
+  // square root of the extremes only (it is monotonic: the same extremes and pairs).
+  const std::size_t nb = sb.points.size();
+  std::vector<double> bx(nb), by(nb), bz(nb), d2(nb);
+  for (std::size_t j = 0; j < nb; ++j) {
+    const Vec3 v = place(sb.points[j], frame_b);
+    bx[j] = v.x();
+    by[j] = v.y();
+    bz[j] = v.z();
+  }
+  double lo2 = std::numeric_limits<double>::infinity();
+  double hi2 = -1;
   std::size_t lo_i = 0, lo_j = 0, hi_i = 0, hi_j = 0;
   for (std::size_t i = 0; i < sa.points.size(); ++i) {
     const Vec3 u = place(sa.points[i], frame_a);
-    for (std::size_t j = 0; j < pb.size(); ++j) {
-      const double d = (u - pb[j]).norm();
-      if (d < lo) {
-        lo = d;
-        lo_i = i;
-        lo_j = j;
-      }
-      if (d > hi) {
-        hi = d;
-        hi_i = i;
-        hi_j = j;
-      }
+    const double ux = u.x(), uy = u.y(), uz = u.z();
+    double row_lo = std::numeric_limits<double>::infinity();
+    double row_hi = -1;
+    for (std::size_t j = 0; j < nb; ++j) {
+      const double dx = ux - bx[j], dy = uy - by[j], dz = uz - bz[j];
+      d2[j] = dx * dx + dy * dy + dz * dz;
+      row_lo = std::min(row_lo, d2[j]);
+      row_hi = std::max(row_hi, d2[j]);
+    }
+    // The first pair attaining a new extreme, as a scan in order would keep.
+    if (row_lo < lo2) {
+      lo2 = row_lo;
+      lo_i = i;
+      lo_j = static_cast<std::size_t>(std::find(d2.begin(), d2.end(), row_lo) - d2.begin());
+    }
+    if (row_hi > hi2) {
+      hi2 = row_hi;
+      hi_i = i;
+      hi_j = static_cast<std::size_t>(std::find(d2.begin(), d2.end(), row_hi) - d2.begin());
     }
   }
+  const double lo = std::sqrt(lo2);
+  const double hi = hi2 < 0 ? -1.0 : std::sqrt(hi2);
   DistanceRange r;
   r.margin = sa.margin + sb.margin;
   r.hi = std::max(hi, refine_extreme(sa, frame_a, sa.q[hi_i], sb, frame_b, sb.q[hi_j], -1.0));
