@@ -199,6 +199,71 @@ TEST(ManifoldSolver, MinimumNormSolutionOfRedundantAndFullRows) {
   }
 }
 
+// A potential under linear equalities C·z = d (C may repeat a row: a fixed joint's rows).
+class UnderRows : public ManifoldProblem {
+ public:
+  explicit UnderRows(Eigen::MatrixXd c) : c_(std::move(c)) {}
+  int variables() const override { return static_cast<int>(c_.cols()); }
+  int objectives() const override { return 1; }
+  int equalities() const override { return static_cast<int>(c_.rows()); }
+  int inequalities() const override { return 0; }
+  void evaluate(const double* z, double* values, double* jacobian) override {
+    const Eigen::Map<const Eigen::VectorXd> x(z, variables());
+    const int n = variables();
+    values[0] = 0.5 * x.squaredNorm();
+    for (int k = 0; k < n; ++k) jacobian[k] = x[k];
+    for (int r = 0; r < c_.rows(); ++r) {
+      values[1 + r] = c_.row(r).dot(x);
+      for (int k = 0; k < n; ++k) jacobian[(1 + r) * n + k] = c_(r, k);
+    }
+  }
+
+ private:
+  Eigen::MatrixXd c_;
+};
+
+// The reduced Hessian and the residuals' Jacobian along the allowed motions, computed from
+// the rows' Householder reflectors, are Zᵀ·H·Z and M·Z with the explicit basis Z; with no
+// rows (Z the identity) they are the matrices themselves.
+TEST(ManifoldSolver, ReductionsByReflectorsMatchTheExplicitBasis) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal;
+  constexpr int n = 30;
+  auto random = [&](int rows, int cols) {
+    Eigen::MatrixXd m(rows, cols);
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < cols; ++j) m(i, j) = normal(rng);
+    return m;
+  };
+  Eigen::MatrixXd h = random(n, n);
+  h = 0.5 * (h + h.transpose());
+  const Eigen::MatrixXd residuals = random(12, n);
+  for (int rows : {0, 1, 6, 12}) {
+    SCOPED_TRACE(rows);
+    Eigen::MatrixXd c = random(rows, n);
+    if (rows >= 6) c.row(rows - 1) = c.row(0) - 3 * c.row(1);  // redundant
+    UnderRows problem(c);
+    ManifoldSolver solver(
+        problem, Eigen::VectorXd::Constant(n, -1e9), Eigen::VectorXd::Constant(n, 1e9));
+    const ManifoldSolver::Active act = solver.active_set(solver.evaluate(Eigen::VectorXd::Zero(n)));
+    ASSERT_EQ(act.free.size(), static_cast<std::size_t>(n));
+    const int expected_motions = n - (rows >= 6 ? rows - 1 : rows);
+    ASSERT_EQ(act.Z.cols(), expected_motions);
+    EXPECT_EQ(static_cast<bool>(act.rows_qr), rows > 0);
+    const Eigen::MatrixXd reduced = ManifoldSolver::reduced(act, h);
+    const Eigen::MatrixXd explicit_reduced = act.Z.transpose() * h * act.Z;
+    ASSERT_EQ(reduced.rows(), expected_motions);
+    EXPECT_LT((reduced - explicit_reduced).cwiseAbs().maxCoeff(), 1e-12);
+    const Eigen::MatrixXd along = ManifoldSolver::along_motions(act, residuals);
+    ASSERT_EQ(along.cols(), expected_motions);
+    EXPECT_LT((along - residuals * act.Z).cwiseAbs().maxCoeff(), 1e-12);
+    if (rows == 0) {
+      EXPECT_EQ(reduced, h);
+      EXPECT_EQ(along, residuals);
+    }
+  }
+}
+
 TEST(StopClock, ACallEndsItForEveryLaterCheck) {
   const StopClock none;
   EXPECT_FALSE(none.passed());

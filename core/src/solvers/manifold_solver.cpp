@@ -80,6 +80,22 @@ int revealed_rank(const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr) {
 
 }  // namespace
 
+namespace {
+
+// The last n − rank columns of the QR's Q: an orthonormal basis of the null space of the
+// matrix whose transpose it factors.
+Eigen::MatrixXd basis_after(const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr, int rank) {
+  const int n = static_cast<int>(qr.rows());
+  // Nothing may move: no columns (Eigen's Householder product offsets a null pointer on an
+  // empty matrix, which UBSan calls undefined).
+  if (rank >= n) return Eigen::MatrixXd(n, 0);
+  Eigen::MatrixXd basis = Eigen::MatrixXd::Identity(n, n).rightCols(n - rank);
+  basis.applyOnTheLeft(qr.householderQ());
+  return basis;
+}
+
+}  // namespace
+
 Eigen::MatrixXd ManifoldSolver::null_space(const Eigen::MatrixXd& m) {
   const int n = static_cast<int>(m.cols());
   if (m.rows() == 0 || n == 0) return Eigen::MatrixXd::Identity(n, n);
@@ -87,14 +103,30 @@ Eigen::MatrixXd ManifoldSolver::null_space(const Eigen::MatrixXd& m) {
   // the others its null space. It reveals rank at this tolerance as an SVD does (redundant
   // closure rows leave pivots at round-off), without the SVD's Jacobi sweeps, which were a
   // quarter of a cycle design's step 1.
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(m.transpose());
-  const int rank = revealed_rank(qr);
-  // Nothing may move: no columns (Eigen's Householder product offsets a null pointer on an
-  // empty matrix, which UBSan calls undefined).
-  if (rank >= n) return Eigen::MatrixXd(n, 0);
-  Eigen::MatrixXd basis = Eigen::MatrixXd::Identity(n, n).rightCols(n - rank);
-  basis.applyOnTheLeft(qr.householderQ());
-  return basis;
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(m.transpose());
+  return basis_after(qr, revealed_rank(qr));
+}
+
+Eigen::MatrixXd ManifoldSolver::reduced(const Active& act, const Eigen::MatrixXd& m) {
+  if (!act.rows_qr) return m;
+  // Zᵀ·m·Z is the trailing block of Qᵀ·m·Q, and Q is one reflector per kept row: applied to
+  // both sides it costs O(n²·rows) where the products with the explicit Z cost 2n³ (on a
+  // 64-hook chain holding its target, 70 Mflop an iteration).
+  const int k = static_cast<int>(m.rows()) - act.rank;
+  if (k <= 0) return Eigen::MatrixXd(0, 0);
+  Eigen::MatrixXd full = m;
+  full.applyOnTheLeft(act.rows_qr->householderQ().adjoint());
+  full.applyOnTheRight(act.rows_qr->householderQ());
+  return full.bottomRightCorner(k, k);
+}
+
+Eigen::MatrixXd ManifoldSolver::along_motions(const Active& act, const Eigen::MatrixXd& m) {
+  if (!act.rows_qr) return m;  // Z is the identity: no product (n² per row for nothing)
+  const int k = static_cast<int>(m.cols()) - act.rank;
+  if (k <= 0) return Eigen::MatrixXd(m.rows(), 0);
+  Eigen::MatrixXd turned = m;
+  turned.applyOnTheRight(act.rows_qr->householderQ());
+  return turned.rightCols(k);
 }
 
 // aᵀ·P = Q·R, so a = P·Rᵀ·Qᵀ and x = Q·[y; 0] with R₁₁ᵀ·y = (Pᵀ·b) over the first `rank` rows.
@@ -183,7 +215,18 @@ ManifoldSolver::Active ManifoldSolver::active_set(const Point& p) const {
     const int side = at_bound(p.z, k);
     if (side == 0 || side * reduced[k] > options_.gradient_tolerance) act.free.push_back(k);
   }
-  act.Z = null_space(columns(J, act.free));
+  const int nf = static_cast<int>(act.free.size());
+  if (J.rows() == 0 || nf == 0) {
+    act.Z = Eigen::MatrixXd::Identity(nf, nf);
+    return act;
+  }
+  // As null_space(), keeping the factorisation: reduced() and along_motions() use its
+  // reflectors instead of products with Z.
+  auto qr = std::make_shared<Eigen::ColPivHouseholderQR<Eigen::MatrixXd>>(
+      columns(J, act.free).transpose());
+  act.rank = revealed_rank(*qr);
+  act.Z = basis_after(*qr, act.rank);
+  act.rows_qr = std::move(qr);
   return act;
 }
 
@@ -415,7 +458,7 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
     const auto began = Clock::now();
     const Active act = active_set(cur);
     if (act.Z.cols() == 0) break;
-    const Eigen::MatrixXd A = columns(cur.Jr, act.free) * act.Z;
+    const Eigen::MatrixXd A = along_motions(act, columns(cur.Jr, act.free));
     const Eigen::VectorXd b = A.transpose() * cur.r;
     if (b.cwiseAbs().maxCoeff() < options_.gradient_tolerance) break;
     // The damped step solves (AᵀA + c·I) p = −Aᵀr. With far fewer residuals than free motions
@@ -488,9 +531,8 @@ ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
   if (act.Z.cols() == 0 || no_time_for(newton_cost(static_cast<int>(act.Z.cols()), {}))) return c;
   const Eigen::MatrixXd full = lagrangian_hessian(p, act);
   if (out_of_time()) return c;  // incomplete: no curvature is reported
-  // With no rows kept Z is the identity (null_space): its products would cost n³ each.
   const bool unconstrained = act.rows.empty();
-  Eigen::MatrixXd H = unconstrained ? full : Eigen::MatrixXd(act.Z.transpose() * full * act.Z);
+  Eigen::MatrixXd H = reduced(act, full);
   H = 0.5 * (H + H.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
   c.eigenvalues = eig.eigenvalues();
@@ -558,9 +600,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
       rg = act.Z.transpose() * rows(cur.g, act.free);
       const Eigen::MatrixXd full = lagrangian_hessian(cur, act);
       if (out_of_time()) break;
-      // With no rows kept Z is the identity (null_space): its products would cost n³ each.
-      Eigen::MatrixXd H =
-          act.rows.empty() ? full : Eigen::MatrixXd(act.Z.transpose() * full * act.Z);
+      Eigen::MatrixXd H = reduced(act, full);
       H = 0.5 * (H + H.transpose());
       if (out_of_time()) break;
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);

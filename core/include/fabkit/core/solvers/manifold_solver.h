@@ -116,6 +116,10 @@ class ManifoldSolver {
     /// presses against (one it pulls away from is let go: a part resting on another may lift).
     std::vector<int> rows;
     Eigen::MatrixXd Z;  ///< orthonormal basis of the null space of the kept rows on `free`
+    /// Z's source when rows are kept: Z = Q[:, rank:] for the Householder Q of the rows'
+    /// transpose (a handful of reflectors), so Zᵀ·H·Z costs O(n²·rows), not 2n³.
+    std::shared_ptr<const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>> rows_qr;
+    int rank = 0;
   };
   struct Result {
     Eigen::VectorXd z;
@@ -163,6 +167,10 @@ class ManifoldSolver {
   int at_bound(const Eigen::VectorXd& z, int k) const;
   /// Hessian of f − λᵀh on the free coordinates (finite differences of exact gradients).
   Eigen::MatrixXd lagrangian_hessian(const Point& p, const Active& act);
+  /// Zᵀ·m·Z for the allowed motions' basis Z (m itself when Z is the identity).
+  static Eigen::MatrixXd reduced(const Active& act, const Eigen::MatrixXd& m);
+  /// m·Z (m itself when Z is the identity).
+  static Eigen::MatrixXd along_motions(const Active& act, const Eigen::MatrixXd& m);
   /// Minimum-norm Gauss-Newton back onto h = 0, moving only coordinates off their bounds.
   bool project(Point& p);
   /// The curvature of the potential along the allowed motions at p (empty when the deadline
