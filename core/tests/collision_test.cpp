@@ -134,6 +134,38 @@ TEST(Collision, ARoundRodAgainstAnEdgeHasTheExactGapAndNormal) {
   }
 }
 
+// The same rod and edge 220 m from the world's origin: the gap and the normal are as exact as
+// near it (world coordinates of 10⁵ mm carry round-off of 10⁻¹¹ mm, GJK's tolerance for round
+// pieces is 10⁻¹² mm; a design that far out must still rest as it does near the origin).
+TEST(Collision, FarFromTheOriginTheGapAndNormalAreAsExact) {
+  const std::vector<TriangleMesh> prism{shapes::cylinder(10, 60, 8)};
+  const std::vector<int> tags{-1};
+  Arc low, high;
+  low.radius = high.radius = 10;
+  low.centre = Vec3(0, 0, -30);
+  high.centre = Vec3(0, 0, 30);
+  const std::vector<std::vector<Arc>> rims{{low, high}};
+  const Body rod(prism, tags, rims);
+  const Body block_body = one(block(Vec3(20, 0, -50), Vec3(60, 40, 50)));
+  const Mat4 world = at(Vec3(100000.25, -200000.5, 321), 12.5);
+  const Mat3 turn = world.topLeftCorner<3, 3>();
+  for (double a = 185; a < 265; a += 11) {
+    const double r = a * M_PI / 180;
+    const Vec3 towards_edge(-std::cos(r), -std::sin(r), 0);
+    for (const double gap : {3.0, 1e-3, 1e-10}) {
+      const Vec3 axis = Vec3(20, 0, 0) - (10 + gap) * towards_edge;
+      const Proximity p =
+          piece_distance(rod, 0, world * at(axis), block_body, 0, world * at(Vec3::Zero()));
+      SCOPED_TRACE(testing::Message() << "angle " << a << " gap " << gap);
+      EXPECT_NEAR(p.distance, gap, 1e-6);
+      EXPECT_NEAR(p.normal.dot(turn * towards_edge), 1.0, 1e-8);
+      const Vec3 edge_point =
+          world.topLeftCorner<3, 3>() * Vec3(20, 0, 0) + world.topRightCorner<3, 1>();
+      EXPECT_LT((p.point_b - edge_point).head<2>().norm(), 1e-6);
+    }
+  }
+}
+
 // A quarter of a circle as a piece's rim widens its bounds only where the arc goes.
 TEST(Collision, AnArcRimBoundsAndSupport) {
   Arc quarter;
