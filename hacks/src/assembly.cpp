@@ -74,6 +74,17 @@ std::string Assembly::label(PartId id, PrimitiveId primitive) const {
   return fmt::format("{}.{}", label(id), p.primitive(primitive).name);
 }
 
+Assembly Assembly::shifted(const Vec3& shift) const {
+  Assembly out = *this;
+  for (PartNode& n : out.parts_) {
+    if (!n.environment) continue;
+    n.frame.pos += shift;
+    n.placement = Rigid<double>::from_matrix(n.frame.matrix());
+  }
+  if (out.target_) out.target_->frame.pos += shift;
+  return out;
+}
+
 PartId Assembly::insert_part(const std::shared_ptr<Part>& part,
                              bool environment,
                              const Frame& frame,

@@ -69,9 +69,44 @@ bool turns_target_about_vertical(const Assembly& a,
   return turn.angle() > 1e-9 && std::abs(turn.axis().z()) > 0.99;
 }
 
+// The grid the world is shifted on before solving (below): designs within 5 m of the origin,
+// the gallery's among them, are solved where they stand.
+constexpr double kWorldGridMm = 10000;
+
+SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& options);
+
 }  // namespace
 
+// A design far from the world's origin is solved shifted near it, by whole multiples of 10 m
+// (exact in floating point): the parameters do not change with a shift, but the solver's
+// round-off does. 100 m out, the slope of a contact row along motions that move both its parts
+// is the difference of two world-sized velocities, round-off of 10⁻¹¹ that the projection
+// took for a slope and divided a residual by (the paper towel holder ended "did not
+// converge"). Part frames and the energy are shifted back.
 SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
+  Vec3 centre = Vec3::Zero();
+  int environments = 0;
+  for (const PartNode& n : assembly.nodes()) {
+    if (!n.environment) continue;
+    centre += n.frame.pos;
+    ++environments;
+  }
+  if (environments > 0) centre /= environments;
+  const Vec3 shift = -kWorldGridMm * (centre / kWorldGridMm).array().round().matrix();
+  if (shift.isZero() || !shift.allFinite()) return solve_where_it_stands(assembly, options);
+  SolveResult result = solve_where_it_stands(assembly.shifted(shift), options);
+  double mass = 0;
+  for (const PartNode& n : assembly.nodes()) {
+    if (!n.environment) mass += std::max(0.0, n.part->mass);
+  }
+  for (SolvedPart& part : result.parts) part.frame.pos -= shift;
+  result.energy -= shift.z() * mass;
+  return result;
+}
+
+namespace {
+
+SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& options) {
   SolveResult result;
   if (assembly.part_count() == 0) {
     result.termination = Termination::kInfeasible;
@@ -412,6 +447,8 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   }
   return result;
 }
+
+}  // namespace
 
 std::string SolveResult::summary() const {
   std::string s;

@@ -225,6 +225,9 @@ class Assembly {
   std::vector<double> available_critical_dim(PartId id, PrimitiveId primitive) const;
 
   const std::optional<Target>& target() const { return target_; }
+  /// A copy with the whole world shifted by `shift`: every environment's frame and the
+  /// target's goal (the parameters, all relative to the parts, stay as they are).
+  Assembly shifted(const Vec3& shift) const;
   /// Connections involving a primitive.
   std::vector<ConnectionId> connections_of(PartId id, PrimitiveId primitive) const;
 
