@@ -107,10 +107,9 @@ TEST(Collision, ARoundRodIsTheSameCylinderWhateverItsSpin) {
   EXPECT_NEAR(rod.piece_min(0).y(), -10, 1e-9);
 }
 
-// A round rod rolling around a box's edge: the gap is the axis's distance to the edge less the
-// radius and the normal points from the axis to the edge, changing smoothly as it rolls (what
-// a relaxation resting a roll on an edge needs), down to touching.
-TEST(Collision, ARoundRodAgainstAnEdgeHasTheExactGapAndNormal) {
+// A rod of radius 10 and length 60 along z, drawn as an octagonal prism with its two end
+// circles as rims: a real cylinder to the queries.
+Body round_rod() {
   const std::vector<TriangleMesh> prism{shapes::cylinder(10, 60, 8)};
   const std::vector<int> tags{-1};
   Arc low, high;
@@ -118,7 +117,14 @@ TEST(Collision, ARoundRodAgainstAnEdgeHasTheExactGapAndNormal) {
   low.centre = Vec3(0, 0, -30);
   high.centre = Vec3(0, 0, 30);
   const std::vector<std::vector<Arc>> rims{{low, high}};
-  const Body rod(prism, tags, rims);
+  return Body(prism, tags, rims);
+}
+
+// A round rod rolling around a box's edge: the gap is the axis's distance to the edge less the
+// radius and the normal points from the axis to the edge, changing smoothly as it rolls (what
+// a relaxation resting a roll on an edge needs), down to touching.
+TEST(Collision, ARoundRodAgainstAnEdgeHasTheExactGapAndNormal) {
+  const Body rod = round_rod();
   // The block's edge along z through (20, 0).
   const Body block_body = one(block(Vec3(20, 0, -50), Vec3(60, 40, 50)));
   for (double a = 185; a < 265; a += 11) {
@@ -138,14 +144,7 @@ TEST(Collision, ARoundRodAgainstAnEdgeHasTheExactGapAndNormal) {
 // near it (world coordinates of 10⁵ mm carry round-off of 10⁻¹¹ mm, GJK's tolerance for round
 // pieces is 10⁻¹² mm; a design that far out must still rest as it does near the origin).
 TEST(Collision, FarFromTheOriginTheGapAndNormalAreAsExact) {
-  const std::vector<TriangleMesh> prism{shapes::cylinder(10, 60, 8)};
-  const std::vector<int> tags{-1};
-  Arc low, high;
-  low.radius = high.radius = 10;
-  low.centre = Vec3(0, 0, -30);
-  high.centre = Vec3(0, 0, 30);
-  const std::vector<std::vector<Arc>> rims{{low, high}};
-  const Body rod(prism, tags, rims);
+  const Body rod = round_rod();
   const Body block_body = one(block(Vec3(20, 0, -50), Vec3(60, 40, 50)));
   const Mat4 world = at(Vec3(100000.25, -200000.5, 321), 12.5);
   const Mat3 turn = world.topLeftCorner<3, 3>();
