@@ -44,6 +44,15 @@ std::string KitTag::spelled() const {
   return fmt::format("{}/{}", kit, version);
 }
 
+void report_unexpected_shape(Diagnostics& diags,
+                             std::string_view file,
+                             std::string_view what,
+                             std::string_view thrown) {
+  diags.error(codes::kMalformedInput,
+              fmt::format("the file could not be read as {} ({})", what, excerpt(thrown, 200)),
+              SourceLocation{std::string(file), 0, 0});
+}
+
 std::string did_you_mean(std::string_view typed, const std::vector<std::string>& candidates) {
   const std::string best = closest_name(typed, candidates);
   return best.empty() ? "" : fmt::format("; did you mean '{}'?", best);

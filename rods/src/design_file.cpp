@@ -492,16 +492,9 @@ Design load_design_text(std::string_view yaml,
                         const DesignOptions& options) {
   Design d;
   Reader reader(std::string(display_name), base_dir, options, d.diagnostics);
-  try {
-    reader.run(yaml, d);
-  } catch (const std::exception& e) {
-    // A shape of YAML the reader did not expect (yaml-cpp throws on a subscript of a scalar):
-    // a finding at the file, never an abort.
-    d = Design{};
-    d.diagnostics.error(
-        codes::kMalformedInput,
-        fmt::format("the file could not be read as a rods design ({})", excerpt(e.what(), 200)),
-        SourceLocation{std::string(display_name), 0, 0});
+  if (const auto thrown = thrown_by([&] { reader.run(yaml, d); })) {
+    d = Design{};  // nothing half-read is kept
+    report_unexpected_shape(d.diagnostics, display_name, "a rods design", *thrown);
   }
   d.readable = !d.diagnostics.has_errors_of(DiagnosticClass::kInput) && !d.structure.nodes.empty();
   return d;

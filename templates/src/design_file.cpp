@@ -435,31 +435,28 @@ std::optional<ModelFile> read_model_file_unguarded(std::string_view yaml,
 
 }  // namespace
 
-// A shape of YAML a reader did not expect (yaml-cpp throws on a subscript of a scalar) is a
-// finding at the file, never an abort (the fuzzer found one: `repeat: op_screw`).
-template <class Read>
-auto guarded(Read read, std::string_view file, Diagnostics& diags) -> decltype(read()) {
-  try {
-    return read();
-  } catch (const std::exception& e) {
-    diags.error(
-        codes::kMalformedInput,
-        fmt::format("the file could not be read as a templates file ({})", excerpt(e.what(), 200)),
-        SourceLocation{std::string(file), 0, 0});
-    return std::nullopt;
-  }
-}
-
 std::optional<SourceDesign> read_source_design(std::string_view yaml,
                                                std::string_view file,
                                                Diagnostics& diags) {
-  return guarded([&] { return read_source_design_unguarded(yaml, file, diags); }, file, diags);
+  std::optional<SourceDesign> design;
+  if (const auto thrown =
+          thrown_by([&] { design = read_source_design_unguarded(yaml, file, diags); })) {
+    report_unexpected_shape(diags, file, "a templates file", *thrown);
+    return std::nullopt;
+  }
+  return design;
 }
 
 std::optional<ModelFile> read_model_file(std::string_view yaml,
                                          std::string_view file,
                                          Diagnostics& diags) {
-  return guarded([&] { return read_model_file_unguarded(yaml, file, diags); }, file, diags);
+  std::optional<ModelFile> model;
+  if (const auto thrown =
+          thrown_by([&] { model = read_model_file_unguarded(yaml, file, diags); })) {
+    report_unexpected_shape(diags, file, "a templates file", *thrown);
+    return std::nullopt;
+  }
+  return model;
 }
 
 }  // namespace fabkit::templates

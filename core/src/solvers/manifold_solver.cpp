@@ -78,33 +78,36 @@ int revealed_rank(const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr) {
   return rank;
 }
 
-}  // namespace
-
-namespace {
-
-// The last n − rank columns of the QR's Q: an orthonormal basis of the null space of the
-// matrix whose transpose it factors.
-Eigen::MatrixXd basis_after(const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr, int rank) {
-  const int n = static_cast<int>(qr.rows());
-  // Nothing may move: no columns (Eigen's Householder product offsets a null pointer on an
-  // empty matrix, which UBSan calls undefined).
-  if (rank >= n) return Eigen::MatrixXd(n, 0);
-  Eigen::MatrixXd basis = Eigen::MatrixXd::Identity(n, n).rightCols(n - rank);
-  basis.applyOnTheLeft(qr.householderQ());
-  return basis;
+// The motions m's rows allow: Z, an orthonormal basis of m's null space, and the factorisation
+// it comes from (none when m has no rows: Z is the identity). Column-pivoted Householder QR of
+// mᵀ: the first `rank` columns of Q span m's row space and the others its null space. It
+// reveals rank at this tolerance as an SVD does (redundant closure rows leave pivots at
+// round-off), without the SVD's Jacobi sweeps, which were a quarter of a cycle design's step 1.
+void set_motions(const Eigen::MatrixXd& m, ManifoldSolver::Active& act) {
+  const int n = static_cast<int>(m.cols());
+  if (m.rows() == 0 || n == 0) {
+    act.Z = Eigen::MatrixXd::Identity(n, n);
+    return;
+  }
+  auto qr = std::make_shared<Eigen::ColPivHouseholderQR<Eigen::MatrixXd>>(m.transpose());
+  act.rank = revealed_rank(*qr);
+  if (act.rank >= n) {
+    // Nothing may move: no columns (Eigen's Householder product offsets a null pointer on an
+    // empty matrix, which UBSan calls undefined).
+    act.Z = Eigen::MatrixXd(n, 0);
+  } else {
+    act.Z = Eigen::MatrixXd::Identity(n, n).rightCols(n - act.rank);
+    act.Z.applyOnTheLeft(qr->householderQ());
+  }
+  act.rows_qr = std::move(qr);
 }
 
 }  // namespace
 
 Eigen::MatrixXd ManifoldSolver::null_space(const Eigen::MatrixXd& m) {
-  const int n = static_cast<int>(m.cols());
-  if (m.rows() == 0 || n == 0) return Eigen::MatrixXd::Identity(n, n);
-  // Column-pivoted Householder QR of mᵀ: the first `rank` columns of Q span m's row space and
-  // the others its null space. It reveals rank at this tolerance as an SVD does (redundant
-  // closure rows leave pivots at round-off), without the SVD's Jacobi sweeps, which were a
-  // quarter of a cycle design's step 1.
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(m.transpose());
-  return basis_after(qr, revealed_rank(qr));
+  Active act;
+  set_motions(m, act);
+  return act.Z;
 }
 
 Eigen::MatrixXd ManifoldSolver::reduced(const Active& act, const Eigen::MatrixXd& m) {
@@ -215,18 +218,7 @@ ManifoldSolver::Active ManifoldSolver::active_set(const Point& p) const {
     const int side = at_bound(p.z, k);
     if (side == 0 || side * reduced[k] > options_.gradient_tolerance) act.free.push_back(k);
   }
-  const int nf = static_cast<int>(act.free.size());
-  if (J.rows() == 0 || nf == 0) {
-    act.Z = Eigen::MatrixXd::Identity(nf, nf);
-    return act;
-  }
-  // As null_space(), keeping the factorisation: reduced() and along_motions() use its
-  // reflectors instead of products with Z.
-  auto qr = std::make_shared<Eigen::ColPivHouseholderQR<Eigen::MatrixXd>>(
-      columns(J, act.free).transpose());
-  act.rank = revealed_rank(*qr);
-  act.Z = basis_after(*qr, act.rank);
-  act.rows_qr = std::move(qr);
+  set_motions(columns(J, act.free), act);
   return act;
 }
 

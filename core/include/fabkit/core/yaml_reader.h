@@ -128,6 +128,26 @@ class YamlReader {
   int errors_ = 0;
 };
 
+/// Runs a reader that walks a parsed document; what it throws (yaml-cpp throws on a subscript of
+/// a scalar: a shape of YAML the reader did not expect) is returned, so that the caller reports
+/// it at the file (report_unexpected_shape) instead of aborting. nullopt: it did not throw.
+template <class Read>
+std::optional<std::string> thrown_by(Read&& read) {
+  try {
+    read();
+    return std::nullopt;
+  } catch (const std::exception& e) {
+    return std::string(e.what());
+  }
+}
+
+/// The finding for what thrown_by() returned: "the file could not be read as <what> (...)",
+/// an input error at `file`.
+void report_unexpected_shape(Diagnostics& diags,
+                             std::string_view file,
+                             std::string_view what,
+                             std::string_view thrown);
+
 /// "; did you mean 'x'?" or "" when nothing is close.
 std::string did_you_mean(std::string_view typed, const std::vector<std::string>& candidates);
 
