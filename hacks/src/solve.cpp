@@ -11,6 +11,7 @@
 #include <cmath>
 #include <optional>
 
+#include "fabkit/core/parallel.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 #include "steps.h"
 
@@ -219,15 +220,16 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
   bool converged = !step1.hit_iteration_limit;
   std::vector<GroupOutcome> outcomes(static_cast<std::size_t>(groups));
   int chosen_candidate = 0;
-  for (int g = 0; g < groups; ++g) {
+  auto group_problem = [&](int g) {
     Problem problem = make_problem(assembly, g);
     problem.stop = stop;
     problem.unfold_tries = std::make_shared<int>(kUnfoldTriesPerGroup);
     problem.contacts_first = std::make_shared<bool>(false);
-    if (g != target_group) {
-      outcomes[static_cast<std::size_t>(g)] = relax_and_judge(problem, step1.x);
-      continue;
-    }
+    return problem;
+  };
+  auto relax_target_group = [&] {
+    const int g = target_group;
+    const Problem problem = group_problem(g);
     std::optional<GroupOutcome> best;
     double best_error = 0;
     std::vector<std::vector<Mat4>> relaxed_from;  // the settled starts relaxed so far
@@ -267,7 +269,22 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       if (holds(*best) && !next_as_near) break;
     }
     if (best) outcomes[static_cast<std::size_t>(g)] = std::move(*best);
+  };
+  // The groups share nothing they change (each writes its own outcome; the target's group
+  // alone writes the candidates' bookkeeping), so they relax at once, the target's first.
+  std::vector<int> order;
+  if (target_group >= 0) order.push_back(target_group);
+  for (int g = 0; g < groups; ++g) {
+    if (g != target_group) order.push_back(g);
   }
+  run_in_parallel(static_cast<int>(order.size()), options.threads, [&](int k) {
+    const int g = order[static_cast<std::size_t>(k)];
+    if (g == target_group) {
+      relax_target_group();
+    } else {
+      outcomes[static_cast<std::size_t>(g)] = relax_and_judge(group_problem(g), step1.x);
+    }
+  });
   if (target_group >= 0 && !settled.empty() &&
       !settled[static_cast<std::size_t>(chosen_candidate)].empty()) {
     // Step 1's reported result is the (settled) start that relaxed into the answer, and what

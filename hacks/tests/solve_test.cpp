@@ -2,6 +2,7 @@
 // golden results and determinism.
 #include "fabkit/hacks/solve.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -424,6 +425,57 @@ TEST(Solve, Deterministic) {
     jb.erase("timings_ms");
     EXPECT_EQ(ja, jb);
   }
+}
+
+// Groups that hang separately relax at once on several threads; how many threads is not part
+// of the answer (each group writes only its own outcome).
+TEST(Solve, SeparateGroupsGiveTheSameAnswerOnOneThreadOrMany) {
+  std::string environment =
+      "environment:\n  - {name: rods, part: TowelRackRods, frame: {pos: [0, 0, 200], rot: [0, "
+      "0, -90]}}\n";
+  std::string parts =
+      "parts:\n  - {name: eyehook1, part: HookEyeConnector}\n  - {name: "
+      "eyehook2, part: HookEyeConnector}\n";
+  std::string connections =
+      "connections:\n  - {connect: [eyehook1.hole, rods.rod1], alignment: flip}\n  - connect: "
+      "[eyehook2.hole, rods.rod2]\n  - connect: [eyehook1.hook, basket.hook]\n  - connect: "
+      "[eyehook2.hook, basket.hook]\n";
+  for (int c = 0; c < 3; ++c) {
+    const int y = 2000 + 200 * c;
+    environment += fmt::format(
+        "  - {{name: left{0}, primitives: {{rod: {{type: rod, radius: 4, length: 100}}}}, "
+        "frame: {{pos: [-40, {1}, 500], rot: [90, 0, 0]}}}}\n"
+        "  - {{name: right{0}, primitives: {{rod: {{type: rod, radius: 4, length: 100}}}}, "
+        "frame: {{pos: [40, {1}, 500], rot: [90, 0, 180]}}}}\n",
+        c,
+        y);
+    for (int i = 1; i <= 3; ++i)
+      parts += fmt::format("  - {{name: s{}_{}, part: DoubleHook}}\n", c, i);
+    connections += fmt::format(
+        "  - connect: [s{0}_1.hook1, left{0}.rod]\n  - connect: [s{0}_2.hook1, s{0}_1.hook2]\n"
+        "  - connect: [s{0}_3.hook1, s{0}_2.hook2]\n"
+        "  - {{connect: [s{0}_3.hook2, right{0}.rod], alignment: flip}}\n",
+        c);
+  }
+  const std::string text = "fabkit: hacks/1\nname: groups\n" + environment + parts +
+                           "target:\n  name: basket\n  part: RoundHandleBasket\n  frame: {pos: "
+                           "[0, 0, 100], rot: [-75, 0, 90]}\n" +
+                           connections;
+  const Design d = load_design_text(text, "groups.yaml", PartsLibrary::builtin());
+  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+  SolveOptions one;
+  one.threads = 1;
+  SolveOptions many;
+  many.threads = 4;
+  const SolveResult a = solve(d.assembly, one);
+  const SolveResult b = solve(d.assembly, many);
+  EXPECT_TRUE(a.stable) << a.message;
+  EXPECT_EQ(a.parameters, b.parameters);
+  nlohmann::json ja = nlohmann::json::parse(result_json(d.assembly, a, "groups"));
+  nlohmann::json jb = nlohmann::json::parse(result_json(d.assembly, b, "groups"));
+  ja.erase("timings_ms");
+  jb.erase("timings_ms");
+  EXPECT_EQ(ja, jb);
 }
 
 // result.json carries the documented keys.

@@ -511,8 +511,11 @@ void fabkit::python::bind_hacks(py::module_ m) {
           for (int w = 0; w < workers; ++w) {
             pool.emplace_back([&] {
               for (int i = next++; i < n; i = next++) {
+                // The assemblies already share the cores: each solve runs on one thread.
+                SolveOptions one_thread;
+                one_thread.threads = 1;
                 results[static_cast<std::size_t>(i)] =
-                    solve_one(*assemblies[static_cast<std::size_t>(i)]);
+                    solve_one(*assemblies[static_cast<std::size_t>(i)], one_thread);
                 ++done;
               }
             });

@@ -28,6 +28,9 @@ struct SolveOptions {
   bool relax = true;         ///< run step 2
   /// Stop (termination TIMEOUT) once this time has passed; for servers. None: no limit.
   std::optional<std::chrono::steady_clock::time_point> deadline;
+  /// Groups hanging separately (independent of each other) relax on up to this many threads
+  /// at once; 0: one per core. The answer does not depend on it.
+  int threads = 0;
   /// Called as each stage starts ("step1", "step2", "stability"); for progress displays.
   std::function<void(std::string_view stage)> on_stage;
 };

@@ -1,0 +1,19 @@
+#pragma once
+// Independent pieces of work run at once on a few threads (the solver's independent groups,
+// for one): each index runs exactly once, results go wherever the callee writes them (one
+// slot per index, so the order the threads happen to take does not change any answer), and
+// the first exception any piece throws is rethrown on the calling thread after all stop.
+
+#include <functional>
+
+namespace fabkit {
+
+/// How many threads `threads` asks for: itself when positive, else one per core (at least 1).
+int thread_count(int threads);
+
+/// Calls `work(i)` for every i in [0, count) on up to `threads` threads, the calling thread
+/// among them; returns when all have returned. An exception stops the handing out of further
+/// indices and is rethrown here (the first one thrown).
+void run_in_parallel(int count, int threads, const std::function<void(int)>& work);
+
+}  // namespace fabkit
