@@ -3,6 +3,7 @@
 #include <numbers>
 #include <optional>
 
+#include "fabkit/core/parallel.h"
 #include "random.h"
 #include "steps.h"
 
@@ -53,6 +54,90 @@ std::vector<double> settle_candidate(const Problem& p,
   return r.x;
 }
 
+namespace {
+
+// One start of step 1: where it begins (below) and the fit from there; nothing when its cycles
+// could not be closed there or the deadline has passed. `give_up` matters to the random starts
+// only (they stop early when far from beating it).
+std::optional<StepResult> fit_from_start(
+    const Problem& p, const Variables& vars, const SolveOptions& o, int start, double give_up) {
+  const Assembly& a = *p.assembly;
+  std::vector<double> x0 = a.values();
+  if (start <= 2) {
+    for (int v : vars.index) {
+      const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
+      double& x = x0[static_cast<std::size_t>(v)];
+      x += symmetry_nudge(o.seed, a.parameter_key(v), s.hi - s.lo);
+      if (s.tag != ParamTag::kUnbounded) x = std::clamp(x, s.lo, s.hi);
+      // Start 2 turns every unbounded angle half a turn from the verified configuration:
+      // the other way to thread a cord through a ring or to hang a part on a rod, a
+      // discrete choice no local fit crosses and a lucky draw should not be needed for.
+      if (start == 2 && s.tag == ParamTag::kUnbounded) x += 180.0;
+    }
+  } else {
+    // Even starts draw every parameter; odd ones only the unbounded angles (how a ring is
+    // threaded, which way a part spins about a rod), keeping the rest as verified: the
+    // choices a local fit cannot change by itself.
+    for (int v : vars.index) {
+      const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
+      if (start % 2 == 1 && s.tag != ParamTag::kUnbounded) continue;
+      x0[static_cast<std::size_t>(v)] =
+          s.lo + keyed_uniform(o.seed, start, a.parameter_key(v)) * (s.hi - s.lo);
+    }
+  }
+  if (past_deadline(p, o)) return std::nullopt;
+  AssemblySolver solver(p, vars, x0, Objective::kTarget, o.deadline);
+  if (start > 0 && !solver.close(x0, 100)) {
+    // The local closing failed from this start: the verification's global search (two
+    // phases, stall detection) usually gets there.
+    VerifyOptions v;
+    v.restarts = 1;
+    v.stretch_start = false;
+    v.deadline = o.deadline;
+    const ClosureResult closed = close_cycles(a, x0, v);
+    if (!closed.closed) return std::nullopt;
+    x0 = closed.x;
+  }
+  // Start 1 drags the target: from where the verified configuration puts it to the goal in
+  // small steps, each a short fit from the last, as a hand would guide it there. It does not
+  // depend on luck, and finds goals the direct fit and the random starts miss.
+  if (start == 1) {
+    std::vector<double> x = a.values();
+    const Rigid<double> from =
+        a.all_part_frames<double>(x.data())[p.target->part.index()].then(p.target->base);
+    const Eigen::Quaterniond q0(from.R);
+    const Eigen::Quaterniond q1(p.target->goal.R);
+    constexpr int kSteps = 8;
+    for (int k = 1; k <= kSteps; ++k) {
+      const double s = static_cast<double>(k) / kSteps;
+      Problem towards = p;
+      towards.target->goal.t = (1 - s) * from.t + s * p.target->goal.t;
+      towards.target->goal.R = q0.slerp(s, q1).toRotationMatrix();
+      towards.target->goal_turned = towards.target->goal;
+      if (towards.target->symmetry.half_turn_axis) {
+        towards.target->goal_turned.R =
+            towards.target->goal.R *
+            Eigen::AngleAxisd(std::numbers::pi, *towards.target->symmetry.half_turn_axis);
+      }
+      AssemblySolver guide(towards, vars, x, Objective::kTarget, o.deadline);
+      StepResult r = guide.fit(x, k == kSteps ? o.max_iterations : 20);
+      if (!r.closed) break;
+      x = r.x;
+      // The last step fits the goal itself with a full start's iterations: it is this
+      // start's fit (fitting again from its end would only spend them a second time where
+      // it stopped at the limit, as a long chain's creeping fit does).
+      if (k == kSteps) return r;
+    }
+    x0 = x;
+  }
+  // Random starts explore: a fifth of the iterations of the verified start, and they stop
+  // early when they are far from beating the best of the full fits (f = ½‖r‖²).
+  return start <= 1 ? solver.fit(x0, o.max_iterations)
+                    : solver.fit(x0, o.max_iterations / 5, give_up);
+}
+
+}  // namespace
+
 Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   const Assembly& a = *p.assembly;
   Step1Result best;
@@ -69,91 +154,18 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   auto score = [](const PoseError& e) {
     return e.position_mm * e.position_mm + e.rotation_deg * e.rotation_deg;
   };
+  auto reached = [&] {
+    return best.error.position_mm < kTargetReached && best.error.rotation_deg < kTargetReached;
+  };
   double best_score = score(best.error);
   std::vector<std::vector<Mat4>> seen_frames;
-  for (int start = 0; start < std::max(1, o.target_starts); ++start) {
-    // Nothing can come nearer a target that is already reached, but the half-turn start may
-    // reach it too in a configuration that holds where this one does not: it is still tried.
-    if (best.error.position_mm < kTargetReached && best.error.rotation_deg < kTargetReached) {
-      if (start > 2) break;
-      start = 2;
-    }
-    std::vector<double> x0 = a.values();
-    if (start <= 2) {
-      for (int v : vars.index) {
-        const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
-        double& x = x0[static_cast<std::size_t>(v)];
-        x += symmetry_nudge(o.seed, a.parameter_key(v), s.hi - s.lo);
-        if (s.tag != ParamTag::kUnbounded) x = std::clamp(x, s.lo, s.hi);
-        // Start 2 turns every unbounded angle half a turn from the verified configuration:
-        // the other way to thread a cord through a ring or to hang a part on a rod, a
-        // discrete choice no local fit crosses and a lucky draw should not be needed for.
-        if (start == 2 && s.tag == ParamTag::kUnbounded) x += 180.0;
-      }
-    } else {
-      // Even starts draw every parameter; odd ones only the unbounded angles (how a ring is
-      // threaded, which way a part spins about a rod), keeping the rest as verified: the
-      // choices a local fit cannot change by itself.
-      for (int v : vars.index) {
-        const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
-        if (start % 2 == 1 && s.tag != ParamTag::kUnbounded) continue;
-        x0[static_cast<std::size_t>(v)] =
-            s.lo + keyed_uniform(o.seed, start, a.parameter_key(v)) * (s.hi - s.lo);
-      }
-    }
-    if (past_deadline(p, o)) break;
-    AssemblySolver solver(p, vars, x0, Objective::kTarget, o.deadline);
-    if (start > 0 && !solver.close(x0, 100)) {
-      // The local closing failed from this start: the verification's global search (two
-      // phases, stall detection) usually gets there.
-      VerifyOptions v;
-      v.restarts = 1;
-      v.stretch_start = false;
-      v.deadline = o.deadline;
-      const ClosureResult closed = close_cycles(a, x0, v);
-      if (!closed.closed) continue;
-      x0 = closed.x;
-    }
-    // Start 1 drags the target: from where the verified configuration puts it to the goal in
-    // small steps, each a short fit from the last, as a hand would guide it there. It does not
-    // depend on luck, and finds goals the direct fit and the random starts miss.
-    std::optional<StepResult> guided;
-    if (start == 1) {
-      std::vector<double> x = a.values();
-      const Rigid<double> from =
-          a.all_part_frames<double>(x.data())[p.target->part.index()].then(p.target->base);
-      const Eigen::Quaterniond q0(from.R);
-      const Eigen::Quaterniond q1(p.target->goal.R);
-      constexpr int kSteps = 8;
-      for (int k = 1; k <= kSteps; ++k) {
-        const double s = static_cast<double>(k) / kSteps;
-        Problem towards = p;
-        towards.target->goal.t = (1 - s) * from.t + s * p.target->goal.t;
-        towards.target->goal.R = q0.slerp(s, q1).toRotationMatrix();
-        towards.target->goal_turned = towards.target->goal;
-        if (towards.target->symmetry.half_turn_axis) {
-          towards.target->goal_turned.R =
-              towards.target->goal.R *
-              Eigen::AngleAxisd(std::numbers::pi, *towards.target->symmetry.half_turn_axis);
-        }
-        AssemblySolver guide(towards, vars, x, Objective::kTarget, o.deadline);
-        StepResult r = guide.fit(x, k == kSteps ? o.max_iterations : 20);
-        if (!r.closed) break;
-        x = r.x;
-        // The last step fits the goal itself with a full start's iterations: it is this
-        // start's fit (fitting again from its end would only spend them a second time where
-        // it stopped at the limit, as a long chain's creeping fit does).
-        if (k == kSteps) guided = std::move(r);
-      }
-      x0 = x;
-    }
-    // Random starts explore: a fifth of the iterations of the verified start, and they stop
-    // early when they are far from beating the best start so far (f = ½‖r‖²).
-    StepResult r = guided       ? std::move(*guided)
-                   : start <= 1 ? solver.fit(x0, o.max_iterations)
-                                : solver.fit(x0, o.max_iterations / 5, 5 * best_score);
+  // A start's fit joins the candidates in the order of the starts, whatever order the threads
+  // finished them in.
+  auto take = [&](int start, std::optional<StepResult>& fit) {
+    if (!fit) return;
     best.starts = start + 1;
-    if (!r.closed) continue;
+    StepResult& r = *fit;
+    if (!r.closed) return;
     for (std::size_t i = 0; i < r.x.size(); ++i) {
       if (a.parameters()[i].spec.tag == ParamTag::kUnbounded) r.x[i] = wrap_360(r.x[i]);
     }
@@ -165,7 +177,7 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     const std::vector<Mat4> frames = a.part_frames(r.x);
     bool seen = false;
     for (const std::vector<Mat4>& other : seen_frames) seen = seen || same_poses(frames, other);
-    if (seen) continue;
+    if (seen) return;
     best.candidates.push_back({r.x, e, !r.converged});
     seen_frames.push_back(frames);
     if (score(e) < best_score - 1e-9) {
@@ -174,6 +186,31 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
       best.error = e;
       best.hit_iteration_limit = !r.converged;
     }
+  };
+  // The starts are independent fits. The verified start comes first: when it reaches the
+  // target nothing can come nearer, and only the half-turn start is still worth its fit (it
+  // may reach the target too in a configuration that holds where the first does not).
+  // Otherwise the others run at once, the random ones giving up when far from the verified
+  // start's fit. They join the candidates in the order of the starts, whatever order the
+  // threads finished them in, and a start after one that reached the target is not taken.
+  const int starts = std::max(1, o.target_starts);
+  std::vector<std::optional<StepResult>> fits(static_cast<std::size_t>(starts));
+  auto fit_starts = [&](int first, int last, double give_up) {
+    run_in_parallel(std::max(0, last - first), o.threads, [&](int k) {
+      fits[static_cast<std::size_t>(first + k)] = fit_from_start(p, vars, o, first + k, give_up);
+    });
+  };
+  fit_starts(0, 1, 0.0);
+  take(0, fits[0]);
+  if (reached()) {
+    fit_starts(2, std::min(3, starts), 5 * best_score);
+  } else {
+    fit_starts(1, starts, 5 * best_score);
+  }
+  for (int start = 1; start < starts; ++start) {
+    if (start == 1 && reached()) continue;
+    if (start > 2 && reached()) break;
+    take(start, fits[static_cast<std::size_t>(start)]);
   }
   // The fits let parts pass through each other (they are cheap that way); settling and step 2
   // keep them apart where a result does.

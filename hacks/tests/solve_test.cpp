@@ -427,9 +427,10 @@ TEST(Solve, Deterministic) {
   }
 }
 
-// Groups that hang separately relax at once on several threads; how many threads is not part
-// of the answer (each group writes only its own outcome).
-TEST(Solve, SeparateGroupsGiveTheSameAnswerOnOneThreadOrMany) {
+// Groups that hang separately relax at once on several threads, and step 1's starts fit at
+// once; how many threads is not part of the answer (each group writes only its own outcome,
+// and the starts join the candidates in their own order).
+TEST(Solve, TheAnswerDoesNotDependOnTheThreadCount) {
   std::string environment =
       "environment:\n  - {name: rods, part: TowelRackRods, frame: {pos: [0, 0, 200], rot: [0, "
       "0, -90]}}\n";
@@ -461,21 +462,30 @@ TEST(Solve, SeparateGroupsGiveTheSameAnswerOnOneThreadOrMany) {
                            "target:\n  name: basket\n  part: RoundHandleBasket\n  frame: {pos: "
                            "[0, 0, 100], rot: [-75, 0, 90]}\n" +
                            connections;
-  const Design d = load_design_text(text, "groups.yaml", PartsLibrary::builtin());
-  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
-  SolveOptions one;
-  one.threads = 1;
-  SolveOptions many;
-  many.threads = 4;
-  const SolveResult a = solve(d.assembly, one);
-  const SolveResult b = solve(d.assembly, many);
-  EXPECT_TRUE(a.stable) << a.message;
-  EXPECT_EQ(a.parameters, b.parameters);
-  nlohmann::json ja = nlohmann::json::parse(result_json(d.assembly, a, "groups"));
-  nlohmann::json jb = nlohmann::json::parse(result_json(d.assembly, b, "groups"));
-  ja.erase("timings_ms");
-  jb.erase("timings_ms");
-  EXPECT_EQ(ja, jb);
+  std::vector<std::pair<std::string, Design>> designs;
+  designs.emplace_back("groups", load_design_text(text, "groups.yaml", PartsLibrary::builtin()));
+  // Starts that do not reach the target (all eight are fitted) and one that does.
+  for (const char* name : {"clip_light_m", "soap_bottle_holder", "basket_between_rods"})
+    designs.emplace_back(name, load_example(name));
+  for (const auto& [name, d] : designs) {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+    SolveOptions one;
+    one.threads = 1;
+    SolveOptions many;
+    many.threads = 4;
+    const SolveResult a = solve(d.assembly, one);
+    const SolveResult b = solve(d.assembly, many);
+    EXPECT_TRUE(a.stable) << a.message;
+    EXPECT_EQ(a.parameters, b.parameters);
+    EXPECT_EQ(a.step1_parameters, b.step1_parameters);
+    EXPECT_EQ(a.step1_starts, b.step1_starts);
+    nlohmann::json ja = nlohmann::json::parse(result_json(d.assembly, a, name));
+    nlohmann::json jb = nlohmann::json::parse(result_json(d.assembly, b, name));
+    ja.erase("timings_ms");
+    jb.erase("timings_ms");
+    EXPECT_EQ(ja, jb);
+  }
 }
 
 // result.json carries the documented keys.
