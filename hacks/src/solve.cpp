@@ -233,18 +233,16 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     std::optional<GroupOutcome> best;
     double best_error = 0;
     std::vector<std::vector<Mat4>> relaxed_from;  // the settled starts relaxed so far
-    for (std::size_t c = 0; c < step1.candidates.size(); ++c) {
-      if (stop->passed()) break;
-      // Settled only now: most candidates are never relaxed (the first that holds ends the
-      // search), and settling costs a relaxation of its own.
-      settled[c] = settle_candidate(steered, step1.candidates[c].x, options);
+    // Whether a candidate settled where an earlier one did (then it relaxes the same).
+    auto settled_again = [&](std::size_t c) {
       const std::vector<Mat4> settled_frames = assembly.part_frames(settled[c]);
-      bool again = false;
-      for (const std::vector<Mat4>& f : relaxed_from)
-        again = again || same_poses(f, settled_frames);
-      if (again) continue;  // it settled where an earlier one did: it relaxes the same
+      for (const std::vector<Mat4>& f : relaxed_from) {
+        if (same_poses(f, settled_frames)) return true;
+      }
       relaxed_from.push_back(settled_frames);
-      GroupOutcome o = relax_and_judge(problem, settled[c]);
+      return false;
+    };
+    auto consider = [&](std::size_t c, GroupOutcome o) {
       const PoseError e = pose_error(
           *whole.target,
           Rigid<double>::from_matrix(assembly.part_frames(o.x)[whole.target->part.index()]));
@@ -261,12 +259,54 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
         best_error = error;
         chosen_candidate = static_cast<int>(c);
       }
-      // Once one holds, only the candidates as near the target as the nearest are worth
-      // relaxing: which of those equally near configurations comes first is an accident of
-      // the starts (the order of the connects, round-off), and each may rest differently.
-      const bool next_as_near = c + 1 < step1.candidates.size() &&
-                                as_near(step1.candidates[c + 1].error, step1.candidates[0].error);
-      if (holds(*best) && !next_as_near) break;
+    };
+    const std::vector<Step1Result::Candidate>& candidates = step1.candidates;
+    // The candidates as near the target as the nearest are all relaxed: which of those
+    // equally near configurations comes first is an accident of the starts (the order of the
+    // connects, round-off), and each may rest differently. They are independent, so they
+    // settle and relax at once, each with its own share of the group's unfolding tries and
+    // starting without contact rows; they are judged in their own order.
+    std::size_t near = candidates.empty() ? 0 : 1;
+    while (near < candidates.size() && as_near(candidates[near].error, candidates[0].error)) ++near;
+    run_in_parallel(static_cast<int>(near), options.threads, [&](int k) {
+      if (stop->passed()) return;
+      const auto c = static_cast<std::size_t>(k);
+      settled[c] = settle_candidate(steered, candidates[c].x, options);
+    });
+    std::vector<std::size_t> fresh;
+    for (std::size_t c = 0; c < near && !stop->passed(); ++c) {
+      if (!settled[c].empty() && !settled_again(c)) fresh.push_back(c);
+    }
+    std::vector<Problem> own(fresh.size(), problem);
+    const int tries = *problem.unfold_tries;
+    const auto shares = static_cast<int>(fresh.size());
+    for (int i = 0; i < shares; ++i) {
+      own[static_cast<std::size_t>(i)].unfold_tries =
+          std::make_shared<int>(tries / shares + (i < tries % shares ? 1 : 0));
+      own[static_cast<std::size_t>(i)].contacts_first = std::make_shared<bool>(false);
+    }
+    std::vector<std::optional<GroupOutcome>> relaxed(fresh.size());
+    run_in_parallel(shares, options.threads, [&](int i) {
+      const auto k = static_cast<std::size_t>(i);
+      if (!stop->passed()) relaxed[k] = relax_and_judge(own[k], settled[fresh[k]]);
+    });
+    // What the batch left of the tries, and whether any of it learnt to start with contacts,
+    // go on to the candidates after it.
+    *problem.unfold_tries = 0;
+    for (std::size_t k = 0; k < fresh.size(); ++k) {
+      *problem.unfold_tries += std::max(0, *own[k].unfold_tries);
+      *problem.contacts_first = *problem.contacts_first || *own[k].contacts_first;
+      if (relaxed[k]) consider(fresh[k], std::move(*relaxed[k]));
+    }
+    // Once one holds, the farther candidates are not worth relaxing; until then they are
+    // tried one after another (the first that holds ends the search).
+    for (std::size_t c = near; c < candidates.size() && !(best && holds(*best)); ++c) {
+      if (stop->passed()) break;
+      // Settled only now: most candidates are never relaxed, and settling costs a relaxation
+      // of its own.
+      settled[c] = settle_candidate(steered, candidates[c].x, options);
+      if (settled_again(c)) continue;
+      consider(c, relax_and_judge(problem, settled[c]));
     }
     if (best) outcomes[static_cast<std::size_t>(g)] = std::move(*best);
   };
