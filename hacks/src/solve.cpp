@@ -180,13 +180,20 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     bool movable = false;  // it has variables and mass
     double overlap = 0;    // deepest interpenetration of its parts, mm
   };
-  auto relax_and_judge = [&](Problem problem, std::vector<double> x0) {
+  // Work that runs beside other work gets its share of the threads (a candidate relaxed beside
+  // others does not spread its own work over cores they already use).
+  auto sharing = [&](const SolveOptions& o, int beside) {
+    SolveOptions shared = o;
+    shared.threads = std::max(1, thread_count(o.threads) / std::max(1, beside));
+    return shared;
+  };
+  auto relax_and_judge = [&](Problem problem, std::vector<double> x0, const SolveOptions& opts) {
     GroupOutcome out;
     problem.contacts = contacts;
     const Variables vars = select_variables(assembly, /*physics=*/true, &problem);
     out.movable = !vars.index.empty() && problem.total_mass > 0;
-    if (options.relax) {
-      out.step = run_step2(problem, vars, x0, options);
+    if (opts.relax) {
+      out.step = run_step2(problem, vars, x0, opts);
       for (int index : vars.index) {
         x0[static_cast<std::size_t>(index)] = out.step.x[static_cast<std::size_t>(index)];
       }
@@ -195,8 +202,8 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       if (assembly.parameters()[i].spec.tag == ParamTag::kUnbounded) x0[i] = wrap_360(x0[i]);
     }
     out.x = std::move(x0);
-    if (!options.relax) watch_contacts(problem, out.x);
-    out.verdict = check_stability(problem, vars, out.x, options);
+    if (!opts.relax) watch_contacts(problem, out.x);
+    out.verdict = check_stability(problem, vars, out.x, opts);
     // Past the deadline the result is "stopped" whatever it overlaps; the closing contact
     // listing says what it found.
     if (!stop->passed()) out.overlap = deepest_overlap(problem, out.x).depth;
@@ -227,7 +234,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     problem.contacts_first = std::make_shared<bool>(false);
     return problem;
   };
-  auto relax_target_group = [&] {
+  auto relax_target_group = [&](const SolveOptions& opts) {
     const int g = target_group;
     const Problem problem = group_problem(g);
     std::optional<GroupOutcome> best;
@@ -268,10 +275,11 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     // starting without contact rows; they are judged in their own order.
     std::size_t near = candidates.empty() ? 0 : 1;
     while (near < candidates.size() && as_near(candidates[near].error, candidates[0].error)) ++near;
-    run_in_parallel(static_cast<int>(near), options.threads, [&](int k) {
+    const SolveOptions each = sharing(opts, static_cast<int>(near));
+    run_in_parallel(static_cast<int>(near), opts.threads, [&](int k) {
       if (stop->passed()) return;
       const auto c = static_cast<std::size_t>(k);
-      settled[c] = settle_candidate(steered, candidates[c].x, options);
+      settled[c] = settle_candidate(steered, candidates[c].x, each);
     });
     std::vector<std::size_t> fresh;
     for (std::size_t c = 0; c < near && !stop->passed(); ++c) {
@@ -286,9 +294,10 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       own[static_cast<std::size_t>(i)].contacts_first = std::make_shared<bool>(false);
     }
     std::vector<std::optional<GroupOutcome>> relaxed(fresh.size());
-    run_in_parallel(shares, options.threads, [&](int i) {
+    const SolveOptions fresh_each = sharing(opts, shares);
+    run_in_parallel(shares, opts.threads, [&](int i) {
       const auto k = static_cast<std::size_t>(i);
-      if (!stop->passed()) relaxed[k] = relax_and_judge(own[k], settled[fresh[k]]);
+      if (!stop->passed()) relaxed[k] = relax_and_judge(own[k], settled[fresh[k]], fresh_each);
     });
     // What the batch left of the tries, and whether any of it learnt to start with contacts,
     // go on to the candidates after it.
@@ -304,9 +313,9 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       if (stop->passed()) break;
       // Settled only now: most candidates are never relaxed, and settling costs a relaxation
       // of its own.
-      settled[c] = settle_candidate(steered, candidates[c].x, options);
+      settled[c] = settle_candidate(steered, candidates[c].x, opts);
       if (settled_again(c)) continue;
-      consider(c, relax_and_judge(problem, settled[c]));
+      consider(c, relax_and_judge(problem, settled[c], opts));
     }
     if (best) outcomes[static_cast<std::size_t>(g)] = std::move(*best);
   };
@@ -317,12 +326,13 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
   for (int g = 0; g < groups; ++g) {
     if (g != target_group) order.push_back(g);
   }
+  const SolveOptions per_group = sharing(options, static_cast<int>(order.size()));
   run_in_parallel(static_cast<int>(order.size()), options.threads, [&](int k) {
     const int g = order[static_cast<std::size_t>(k)];
     if (g == target_group) {
-      relax_target_group();
+      relax_target_group(per_group);
     } else {
-      outcomes[static_cast<std::size_t>(g)] = relax_and_judge(group_problem(g), step1.x);
+      outcomes[static_cast<std::size_t>(g)] = relax_and_judge(group_problem(g), step1.x, per_group);
     }
   });
   if (target_group >= 0 && !settled.empty() &&

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "fabkit/core/parallel.h"
 #include "fabkit/hacks/solve.h"
 #include "kinematics.h"
 
@@ -169,20 +170,56 @@ StepResult avoiding_contacts(
   const bool environment_only =
       p.contacts_first && !*p.contacts_first &&
       deepest_overlap(p, r.x, /*parts_only=*/true).depth <= kPenetrationToleranceMm;
-  if (auto unfolded = unfold(p, r, plain, false)) {
-    r = std::move(unfolded->first);
-    plain = unfolded->second;
-    if (plain <= kPenetrationToleranceMm || past_deadline(p, o)) return r;
-  }
-  Problem kept = p;
-  StepResult apart = with_contacts(kept, x, run);
-  const double apart_depth =
-      apart.closed ? deepest_overlap(kept, apart.x).depth : std::numeric_limits<double>::infinity();
-  if (!(apart.converged && apart_depth <= kPenetrationToleranceMm) && !past_deadline(p, o)) {
-    if (auto unfolded = unfold(p, r, plain, true)) {
-      if (unfolded->second <= kPenetrationToleranceMm) return std::move(unfolded->first);
+  // The parts' unfolding, then (unless it brought them apart) the environment's, which is
+  // wanted only if the contact rows do not bring the parts to rest apart.
+  bool parts_unfolded = false;  // the parts' unfolding ended it (apart, or past the deadline)
+  std::optional<std::pair<StepResult, double>> environment_unfolded;
+  auto unfold_parts = [&] {
+    if (auto unfolded = unfold(p, r, plain, false)) {
+      r = std::move(unfolded->first);
+      plain = unfolded->second;
+      parts_unfolded = plain <= kPenetrationToleranceMm || past_deadline(p, o);
     }
+  };
+  Problem kept = p;
+  StepResult apart;
+  double apart_depth = std::numeric_limits<double>::infinity();
+  auto run_with_contacts = [&] {
+    apart = with_contacts(kept, x, run);
+    if (apart.closed) apart_depth = deepest_overlap(kept, apart.x).depth;
+  };
+  auto rests_apart = [&] { return apart.converged && apart_depth <= kPenetrationToleranceMm; };
+  if (p.unfold_tries && *p.unfold_tries > 0 && thread_count(o.threads) > 1) {
+    // The contact rows' run starts from x whatever the unfolding finds, so the two run at
+    // once, the unfolding going on to the environment's pairs as if the contact rows will
+    // not bring the parts to rest apart; when they do, its result is dropped and the tries it
+    // spent are given back. The answer is the one the sequence below gives.
+    int tries_before = 0;
+    bool environment_tried = false;
+    run_in_parallel(2, o.threads, [&](int k) {
+      if (k == 1) {
+        run_with_contacts();
+        return;
+      }
+      unfold_parts();
+      if (parts_unfolded || past_deadline(p, o)) return;
+      tries_before = *p.unfold_tries;
+      environment_tried = true;
+      environment_unfolded = unfold(p, r, plain, true);
+    });
+    if (parts_unfolded) return r;
+    if (environment_tried && rests_apart()) {
+      *p.unfold_tries = tries_before;
+      environment_unfolded.reset();
+    }
+  } else {
+    unfold_parts();
+    if (parts_unfolded) return r;
+    run_with_contacts();
+    if (!rests_apart() && !past_deadline(p, o)) environment_unfolded = unfold(p, r, plain, true);
   }
+  if (environment_unfolded && environment_unfolded->second <= kPenetrationToleranceMm)
+    return std::move(environment_unfolded->first);
   // Contact rows are bounded in cost; when they leave the parts deeper in each other than
   // the plain run did, the plain run's result stands (and the verdict reports the overlap).
   if (!apart.closed || apart_depth >= plain) return r;

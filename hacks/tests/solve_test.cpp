@@ -464,10 +464,16 @@ TEST(Solve, TheAnswerDoesNotDependOnTheThreadCount) {
                            connections;
   std::vector<std::pair<std::string, Design>> designs;
   designs.emplace_back("groups", load_design_text(text, "groups.yaml", PartsLibrary::builtin()));
-  // Starts that do not reach the target (all eight are fitted), one that does, and one whose
-  // six candidates are as near the target (relaxed at once).
-  for (const char* name :
-       {"clip_light_m", "soap_bottle_holder", "basket_between_rods", "mug_hanger"})
+  // Starts that do not reach the target (all eight are fitted), one that does, one whose six
+  // candidates are as near the target (relaxed at once), one that comes to rest against an
+  // environment with contact rows while its unfolding runs beside them (and is dropped), and
+  // one that passes through its environment whatever is tried.
+  for (const char* name : {"clip_light_m",
+                           "soap_bottle_holder",
+                           "basket_between_rods",
+                           "mug_hanger",
+                           "paper_towel_holder",
+                           "diaper_caddy"})
     designs.emplace_back(name, load_example(name));
   for (const auto& [name, d] : designs) {
     SCOPED_TRACE(name);
@@ -478,7 +484,6 @@ TEST(Solve, TheAnswerDoesNotDependOnTheThreadCount) {
     many.threads = 4;
     const SolveResult a = solve(d.assembly, one);
     const SolveResult b = solve(d.assembly, many);
-    EXPECT_TRUE(a.stable) << a.message;
     EXPECT_EQ(a.parameters, b.parameters);
     EXPECT_EQ(a.step1_parameters, b.step1_parameters);
     EXPECT_EQ(a.step1_starts, b.step1_starts);
