@@ -199,6 +199,28 @@ TEST(ManifoldSolver, MinimumNormSolutionOfRedundantAndFullRows) {
   }
 }
 
+// Multipliers of rows that are redundant up to round-off (a fixed joint's, or a held target's
+// 12 rows of rank 6): those rows count once, and the answer is the minimum-norm one, not one
+// that divides by the round-off.
+TEST(ManifoldSolver, MultipliersOfRowsRedundantUpToRoundOff) {
+  Eigen::MatrixXd rows(2, 3);
+  rows << 1, 0, 0,  //
+      1, 1e-12, 0;  // the first row, up to round-off
+  const Eigen::VectorXd lambda =
+      ManifoldSolver::least_squares_multipliers(rows, Eigen::Vector3d(1, 2, 3));
+  ASSERT_EQ(lambda.size(), 2);
+  EXPECT_NEAR(lambda[0], 0.5, 1e-9);
+  EXPECT_NEAR(lambda[1], 0.5, 1e-9);
+  // Independent rows get the exact least-squares multipliers.
+  Eigen::MatrixXd independent(2, 3);
+  independent << 1, 0, 0,  //
+      0, 2, 0;
+  const Eigen::VectorXd exact =
+      ManifoldSolver::least_squares_multipliers(independent, Eigen::Vector3d(1, 2, 3));
+  EXPECT_NEAR(exact[0], 1.0, 1e-12);
+  EXPECT_NEAR(exact[1], 1.0, 1e-12);
+}
+
 // A potential under linear equalities C·z = d (C may repeat a row: a fixed joint's rows).
 class UnderRows : public ManifoldProblem {
  public:
@@ -279,6 +301,27 @@ TEST(StopClock, ACallEndsItForEveryLaterCheck) {
 
   const StopClock past(Clock::now() - std::chrono::milliseconds(1));
   EXPECT_TRUE(past.passed());
+}
+
+TEST(StopClock, SpeculativeWorkStopsWithItsParentOrWhenCalledOff) {
+  const auto parent = std::make_shared<const StopClock>(Clock::now() + std::chrono::hours(1));
+  const StopClock child(parent);
+  EXPECT_FALSE(child.passed());
+  EXPECT_FALSE(child.would_pass(std::chrono::minutes(1)));
+  child.call_off();
+  EXPECT_TRUE(child.passed());
+  EXPECT_TRUE(child.would_pass(Clock::duration::zero()));
+  EXPECT_FALSE(parent->passed()) << "calling off the child leaves the parent running";
+
+  const StopClock sibling(parent);
+  EXPECT_TRUE(sibling.would_pass(std::chrono::hours(2))) << "the parent's deadline holds";
+  EXPECT_TRUE(parent->passed());
+  EXPECT_TRUE(sibling.passed());
+
+  const StopClock orphan(std::shared_ptr<const StopClock>{});
+  EXPECT_FALSE(orphan.passed());
+  orphan.call_off();
+  EXPECT_TRUE(orphan.passed());
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // step 1 reaches for the target (least squares on the constraint manifold, seeded starts),
 // step 2 relaxes under gravity (Newton on the potential), the verdict finds what slips.
 
+#include <atomic>
 #include <chrono>
 #include <limits>
 #include <optional>
@@ -192,23 +193,38 @@ StepResult avoiding_contacts(
   if (p.unfold_tries && *p.unfold_tries > 0 && thread_count(o.threads) > 1) {
     // The contact rows' run starts from x whatever the unfolding finds, so the two run at
     // once, the unfolding going on to the environment's pairs as if the contact rows will
-    // not bring the parts to rest apart; when they do, its result is dropped and the tries it
-    // spent are given back. The answer is the one the sequence below gives.
+    // not bring the parts to rest apart. Each is called off as soon as the other shows it is
+    // not wanted (its clock stops), and what it found is dropped: when the parts' unfolding
+    // brings them apart, the contact run; when the contact rows bring the parts to rest
+    // apart, the environment's unfolding, and the tries it spent are given back. The answer
+    // is the one the sequence below gives.
+    const auto contacts_clock = std::make_shared<const StopClock>(p.stop);
+    const auto unfold_clock = std::make_shared<const StopClock>(p.stop);
+    kept.stop = contacts_clock;
+    Problem environment = p;
+    environment.stop = unfold_clock;
     int tries_before = 0;
     bool environment_tried = false;
+    std::atomic<bool> contacts_rest_apart{false};
     run_in_parallel(2, o.threads, [&](int k) {
       if (k == 1) {
         run_with_contacts();
+        if (rests_apart()) {
+          contacts_rest_apart = true;
+          unfold_clock->call_off();
+        }
         return;
       }
       unfold_parts();
-      if (parts_unfolded || past_deadline(p, o)) return;
+      if (parts_unfolded) contacts_clock->call_off();
+      if (parts_unfolded || past_deadline(p, o) || contacts_rest_apart) return;
       tries_before = *p.unfold_tries;
       environment_tried = true;
-      environment_unfolded = unfold(p, r, plain, true);
+      environment_unfolded = unfold(environment, r, plain, true);
     });
+    kept.stop = p.stop;
     if (parts_unfolded) return r;
-    if (environment_tried && rests_apart()) {
+    if (environment_tried && contacts_rest_apart) {
       *p.unfold_tries = tries_before;
       environment_unfolded.reset();
     }

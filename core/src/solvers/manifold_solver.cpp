@@ -189,10 +189,18 @@ Eigen::VectorXd ManifoldSolver::multipliers(const Point& p,
   if (free.empty()) return Eigen::VectorXd::Zero(static_cast<int>(kept.size()));
   // Redundant closure equations (fixed joints) make J rank-deficient: drop its near-zero
   // singular values, as null_space() does, or the multipliers blow up with round-off.
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(
-      columns(row_subset(p.J, kept), free).transpose());
+  return least_squares_multipliers(columns(row_subset(p.J, kept), free), rows(p.g, free));
+}
+
+Eigen::VectorXd ManifoldSolver::least_squares_multipliers(const Eigen::MatrixXd& rows,
+                                                          const Eigen::VectorXd& gradient) {
+  // The threshold is set before the decomposition: its Z part is built for the rank it finds
+  // (set afterwards, a lower rank read reflectors that were never computed — uninitialised
+  // memory, and multipliers of 1e244 on a soap bottle's settling).
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
   cod.setThreshold(1e-9);
-  return cod.solve(rows(p.g, free));
+  cod.compute(rows.transpose());
+  return cod.solve(gradient);
 }
 
 ManifoldSolver::Active ManifoldSolver::active_set(const Point& p) const {
@@ -663,8 +671,15 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     if (!interior || p.norm() > radius) {
       const double floor_mu = std::max(0.0, -lambda_min);
       double lo_mu = floor_mu;
-      double hi_mu = floor_mu + std::max(1e-12, c.norm() / radius);
-      while (length_for(hi_mu) > radius) hi_mu = floor_mu + 2 * (hi_mu - floor_mu);
+      // The gap above the floor grows by doubling; it starts at least a relative 1e-12 of
+      // the floor, so that floor + gap is never the floor itself (a doubling of nothing was an
+      // endless loop under a huge curvature).
+      double gap = std::max({1e-12, 1e-12 * floor_mu, c.norm() / radius});
+      double hi_mu = floor_mu + gap;
+      for (int k = 0; k < 2100 && length_for(hi_mu) > radius; ++k) {
+        gap *= 2;
+        hi_mu = floor_mu + gap;
+      }
       for (int k = 0; k < 80; ++k) {
         const double mid = 0.5 * (lo_mu + hi_mu);
         (length_for(mid) > radius ? lo_mu : hi_mu) = mid;

@@ -10,6 +10,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <memory>
 #include <optional>
 
 namespace fabkit {
@@ -20,14 +21,23 @@ class StopClock {
 
   explicit StopClock(std::optional<Clock::time_point> at = std::nullopt) : at_(at) {}
 
-  /// Past the deadline, or called early by a step that could not have finished before it.
+  /// A clock for work started beside other work, speculatively: it stops when `parent` does
+  /// (which may be null) and when whoever started the work calls it off.
+  explicit StopClock(std::shared_ptr<const StopClock> parent) : parent_(std::move(parent)) {}
+
+  /// Past the deadline, or called early by a step that could not have finished before it (or
+  /// called off).
   bool passed() const {
-    return at_ && (called_.load(std::memory_order_relaxed) || Clock::now() > *at_);
+    if (called_.load(std::memory_order_relaxed)) return true;
+    if (parent_) return parent_->passed();
+    return at_ && Clock::now() > *at_;
   }
 
   /// Whether work expected to take `cost` would end past the deadline. If it would, the
   /// deadline is called now: passed() is true from here on.
   bool would_pass(Clock::duration cost) const {
+    if (called_.load(std::memory_order_relaxed)) return true;
+    if (parent_) return parent_->would_pass(cost);
     if (!at_) return false;
     if (passed()) return true;
     if (Clock::now() + cost <= *at_) return false;
@@ -35,8 +45,12 @@ class StopClock {
     return true;
   }
 
+  /// The work this clock times is no longer wanted: passed() is true from here on.
+  void call_off() const { called_.store(true, std::memory_order_relaxed); }
+
  private:
   std::optional<Clock::time_point> at_;
+  std::shared_ptr<const StopClock> parent_;
   mutable std::atomic<bool> called_{false};
 };
 

@@ -188,6 +188,11 @@ class ManifoldSolver {
   /// null_space()'s rank test: a third of the cost of a complete orthogonal decomposition of
   /// a, which the projection back onto the constraints used at every Gauss-Newton iteration.
   static Eigen::VectorXd min_norm_solution(const Eigen::MatrixXd& a, const Eigen::VectorXd& b);
+  /// The multipliers λ of rows J (on the free coordinates) for gradient g: the minimum-norm
+  /// least-squares solution of Jᵀλ = g, with singular values below 1e-9 of the largest
+  /// dropped (redundant rows would otherwise get multipliers as large as round-off is small).
+  static Eigen::VectorXd least_squares_multipliers(const Eigen::MatrixXd& rows,
+                                                   const Eigen::VectorXd& gradient);
 
  private:
   bool out_of_time() const;
