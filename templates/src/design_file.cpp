@@ -433,30 +433,30 @@ std::optional<ModelFile> read_model_file_unguarded(std::string_view yaml,
   return m;
 }
 
+// A reader run so that a shape of YAML it did not expect (yaml-cpp throws on a subscript of a
+// scalar) is a finding at the file, not an abort.
+template <class Read>
+auto guarded(Diagnostics& diags, std::string_view file, Read&& read) -> decltype(read()) {
+  decltype(read()) result;
+  if (const auto thrown = thrown_by([&] { result = read(); })) {
+    report_unexpected_shape(diags, file, "a templates file", *thrown);
+    return std::nullopt;
+  }
+  return result;
+}
+
 }  // namespace
 
 std::optional<SourceDesign> read_source_design(std::string_view yaml,
                                                std::string_view file,
                                                Diagnostics& diags) {
-  std::optional<SourceDesign> design;
-  if (const auto thrown =
-          thrown_by([&] { design = read_source_design_unguarded(yaml, file, diags); })) {
-    report_unexpected_shape(diags, file, "a templates file", *thrown);
-    return std::nullopt;
-  }
-  return design;
+  return guarded(diags, file, [&] { return read_source_design_unguarded(yaml, file, diags); });
 }
 
 std::optional<ModelFile> read_model_file(std::string_view yaml,
                                          std::string_view file,
                                          Diagnostics& diags) {
-  std::optional<ModelFile> model;
-  if (const auto thrown =
-          thrown_by([&] { model = read_model_file_unguarded(yaml, file, diags); })) {
-    report_unexpected_shape(diags, file, "a templates file", *thrown);
-    return std::nullopt;
-  }
-  return model;
+  return guarded(diags, file, [&] { return read_model_file_unguarded(yaml, file, diags); });
 }
 
 }  // namespace fabkit::templates
