@@ -258,10 +258,23 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     std::copy(values_.begin(), values_.end(), values);
     std::copy(jacobian_.begin(), jacobian_.end(), jacobian);
   }
+  /// Without the contact rows (flat, so a differenced Hessian does not read them): their
+  /// distance queries were half of a differenced Hessian's cost on the diaper caddy.
+  void evaluate_slopes(const double* z, double* values, double* jacobian) override {
+    evaluate(z, /*contacts=*/false);
+    std::copy(values_.begin(), values_.end(), values);
+    std::copy(jacobian_.begin(), jacobian_.end(), jacobian);
+  }
 
-  void evaluate(const double* z) {
-    if (!values_.empty() && std::equal(z, z + n_, last_.begin())) return;
+  /// Values and Jacobian at z into values_ and jacobian_; without `contacts` the contact rows
+  /// are left 0.
+  void evaluate(const double* z, bool contacts = true) {
+    if (!values_.empty() && std::equal(z, z + n_, last_.begin()) &&
+        (last_has_contacts_ || !contacts)) {
+      return;
+    }
     last_.assign(z, z + n_);
+    last_has_contacts_ = contacts;
     const Assembly& a = *problem_.assembly;
     const std::vector<double> x = expand<double>(vars_, base_, z);
     values_.assign(static_cast<std::size_t>(rows_), 0.0);
@@ -298,7 +311,7 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
       collision::Proximity at;
     };
     std::vector<Near> near;
-    if (!problem_.watched.empty()) {
+    if (contacts && !problem_.watched.empty()) {
       std::vector<Mat4> mats;
       mats.reserve(frames.size());
       for (const Rigid<double>& f : frames) mats.push_back(f.matrix());
@@ -583,6 +596,7 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
   std::vector<Rigid<double>> fixed_frames_;
   std::vector<Slot> slots_;
   std::vector<double> last_, values_, jacobian_;
+  bool last_has_contacts_ = false;  // whether values_ and jacobian_ at last_ have the contact rows
   // Per connector side (2 per connection): its local twists at the point being evaluated.
   std::vector<char> twists_ready_;
   std::vector<std::array<Vec3, 3>> twist_w_, twist_v_;

@@ -232,6 +232,17 @@ ManifoldSolver::Active ManifoldSolver::active_set(const Point& p) const {
 
 ManifoldSolver::Point ManifoldSolver::evaluate(const Eigen::VectorXd& z,
                                                const std::vector<int>* binding) {
+  return evaluate_rows(z, binding, /*slopes_only=*/false);
+}
+
+ManifoldSolver::Point ManifoldSolver::evaluate_slopes(const Eigen::VectorXd& z,
+                                                      const std::vector<int>& binding) {
+  return evaluate_rows(z, &binding, /*slopes_only=*/true);
+}
+
+ManifoldSolver::Point ManifoldSolver::evaluate_rows(const Eigen::VectorXd& z,
+                                                    const std::vector<int>* binding,
+                                                    bool slopes_only) {
   Point p;
   p.z = z;
   const int no = problem_.objectives();
@@ -240,7 +251,11 @@ ManifoldSolver::Point ManifoldSolver::evaluate(const Eigen::VectorXd& z,
   const int total = no + m + ni;
   values_.assign(static_cast<std::size_t>(total), 0.0);
   jacobian_.assign(static_cast<std::size_t>(total) * static_cast<std::size_t>(n_), 0.0);
-  problem_.evaluate(z.data(), values_.data(), jacobian_.data());
+  if (slopes_only) {
+    problem_.evaluate_slopes(z.data(), values_.data(), jacobian_.data());
+  } else {
+    problem_.evaluate(z.data(), values_.data(), jacobian_.data());
+  }
   auto value = [&](int row) { return values_[static_cast<std::size_t>(row)]; };
   auto grad = [&](int row, int col) {
     return jacobian_[static_cast<std::size_t>(row) * static_cast<std::size_t>(n_) +
@@ -373,7 +388,7 @@ Eigen::MatrixXd ManifoldSolver::lagrangian_hessian(const Point& p, const Active&
     const double eps = 1e-6 * std::max(1.0, std::abs(p.z[k]));
     Eigen::VectorXd zp = p.z;
     zp[k] += eps;
-    H.col(i) = (grad_l(evaluate(zp, &p.binding)) - g0) / eps;
+    H.col(i) = (grad_l(evaluate_slopes(zp, p.binding)) - g0) / eps;
   }
   return H;
 }

@@ -36,6 +36,13 @@ class ManifoldProblem {
   virtual int inequalities() const = 0;
   /// Values of every row and the row-major Jacobian (rows × variables) at z.
   virtual void evaluate(const double* z, double* values, double* jacobian) = 0;
+  /// As evaluate(), for differencing the Hessian: of what it fills only the objective rows'
+  /// values and the Jacobian rows of the objective, the equalities and the inequalities that
+  /// are not flat are read, so a problem may skip the flat rows (left as they were) where they
+  /// cost something — contact rows are distance queries between meshes.
+  virtual void evaluate_slopes(const double* z, double* values, double* jacobian) {
+    evaluate(z, values, jacobian);
+  }
   /// Whether a point where the equalities hold is really on the manifold the problem means
   /// (equations with spurious solutions, such as minimal orientation residuals that also
   /// vanish at a half turn, say no here).
@@ -158,6 +165,9 @@ class ManifoldSolver {
   /// Everything at z. The binding inequalities are those within the margin, or exactly
   /// `binding` when given (derivatives by differences need the same rows at every point).
   Point evaluate(const Eigen::VectorXd& z, const std::vector<int>* binding = nullptr);
+  /// As evaluate(), with the problem's evaluate_slopes(): the flat inequalities' rows and the
+  /// constraint values are not to be read.
+  Point evaluate_slopes(const Eigen::VectorXd& z, const std::vector<int>& binding);
   /// Coordinates at a bound stay there unless the objective, after the constraints take their
   /// share, pulls them back inside.
   Active active_set(const Point& p) const;
@@ -195,6 +205,7 @@ class ManifoldSolver {
                                                    const Eigen::VectorXd& gradient);
 
  private:
+  Point evaluate_rows(const Eigen::VectorXd& z, const std::vector<int>* binding, bool slopes_only);
   bool out_of_time() const;
   /// Whether an iteration costing about `cost` would end past the deadline (if so, it is
   /// called: out_of_time() holds from then on).
