@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <thread>
 
@@ -284,6 +286,73 @@ TEST(ManifoldSolver, ReductionsByReflectorsMatchTheExplicitBasis) {
       EXPECT_EQ(along, residuals);
     }
   }
+}
+
+// f = ½‖z − a‖² on the unit sphere (an equality that curves), pressed against a wall z₀ ≥ 0.6 whose
+// row is flat where it binds (a contact between faceted bodies). With `skip_flat_rows`,
+// evaluate_slopes() writes NaN where the flat row is: the differenced Hessian must not read it.
+class SphereAgainstAWall : public ManifoldProblem {
+ public:
+  explicit SphereAgainstAWall(bool skip_flat_rows) : skip_flat_rows_(skip_flat_rows) {}
+  int variables() const override { return 3; }
+  int objectives() const override { return 1; }
+  int equalities() const override { return 1; }
+  int inequalities() const override { return 1; }
+  bool flat_inequality(int) const override { return true; }
+  void evaluate(const double* z, double* values, double* jacobian) override {
+    ++full;
+    fill(z, values, jacobian, /*wall=*/true);
+  }
+  void evaluate_slopes(const double* z, double* values, double* jacobian) override {
+    ++slopes;
+    fill(z, values, jacobian, /*wall=*/!skip_flat_rows_);
+  }
+  int full = 0;
+  int slopes = 0;
+
+ private:
+  void fill(const double* z, double* values, double* jacobian, bool wall) const {
+    const Eigen::Vector3d a(-2.0, 0.5, 0.3);
+    const Eigen::Map<const Eigen::Vector3d> x(z);
+    values[0] = 0.5 * (x - a).squaredNorm();
+    values[1] = x.squaredNorm() - 1;
+    for (int k = 0; k < 3; ++k) {
+      jacobian[k] = x[k] - a[k];
+      jacobian[3 + k] = 2 * x[k];
+    }
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    values[2] = wall ? 0.6 - x[0] : nan;
+    jacobian[6] = wall ? -1 : nan;
+    jacobian[7] = wall ? 0 : nan;
+    jacobian[8] = wall ? 0 : nan;
+  }
+  bool skip_flat_rows_;
+};
+
+TEST(ManifoldSolver, DifferencedHessiansReadNoFlatRowsAndEvaluateOnlySlopes) {
+  // The constrained minimum: on the wall, on the sphere, and turned towards a's (y, z).
+  const double turn = std::atan2(0.3, 0.5);
+  const Eigen::Vector3d at(0.6, 0.8 * std::cos(turn), 0.8 * std::sin(turn));
+  Eigen::MatrixXd hessians[2];
+  for (const bool skip : {false, true}) {
+    SphereAgainstAWall problem(skip);
+    ManifoldSolver solver(
+        problem, Eigen::VectorXd::Constant(3, -10), Eigen::VectorXd::Constant(3, 10));
+    const ManifoldSolver::Point p = solver.evaluate(at);
+    ASSERT_EQ(p.binding.size(), 1u);  // the wall's row binds here
+    const ManifoldSolver::Active act = solver.active_set(p);
+    ASSERT_EQ(act.rows.size(), 2u);  // the objective presses against the wall
+    const int full_before = problem.full;
+    hessians[skip ? 1 : 0] = solver.lagrangian_hessian(p, act);
+    EXPECT_EQ(problem.full, full_before);  // one evaluate_slopes() per column instead
+    EXPECT_EQ(problem.slopes, 3);
+  }
+  ASSERT_TRUE(hessians[1].allFinite());
+  EXPECT_EQ(hessians[0], hessians[1]);
+  // Against the closed form: ∇²f − λ·∇²h = (1 − 2λ)·I, λ the sphere's multiplier.
+  const double lambda = 0.5 * (at[1] - 0.5) / at[1];  // from the y row (the wall has no y)
+  EXPECT_LT((hessians[0] - (1 - 2 * lambda) * Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(),
+            1e-5);
 }
 
 TEST(StopClock, ACallEndsItForEveryLaterCheck) {
