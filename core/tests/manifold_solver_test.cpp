@@ -272,15 +272,27 @@ TEST(ManifoldSolver, ReductionsByReflectorsMatchTheExplicitBasis) {
     const ManifoldSolver::Active act = solver.active_set(solver.evaluate(Eigen::VectorXd::Zero(n)));
     ASSERT_EQ(act.free.size(), static_cast<std::size_t>(n));
     const int expected_motions = n - (rows >= 6 ? rows - 1 : rows);
-    ASSERT_EQ(act.Z.cols(), expected_motions);
+    ASSERT_EQ(act.motions(), expected_motions);
+    const Eigen::MatrixXd Z = act.basis();
+    ASSERT_EQ(Z.cols(), expected_motions);
+    // Products by reflectors are products with the basis.
+    const Eigen::VectorXd q = random(expected_motions, 1);
+    const Eigen::VectorXd v = random(n, 1);
+    EXPECT_LT((act.along(q) - Z * q).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT((act.onto(v) - Z.transpose() * v).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT((Z.transpose() * Z - Eigen::MatrixXd::Identity(expected_motions, expected_motions))
+                  .cwiseAbs()
+                  .maxCoeff(),
+              1e-12);
+    if (rows > 0) EXPECT_LT((c * Z).cwiseAbs().maxCoeff(), 1e-9);  // Z spans c's null space
     EXPECT_EQ(static_cast<bool>(act.rows_qr), rows > 0);
     const Eigen::MatrixXd reduced = ManifoldSolver::reduced(act, h);
-    const Eigen::MatrixXd explicit_reduced = act.Z.transpose() * h * act.Z;
+    const Eigen::MatrixXd explicit_reduced = Z.transpose() * h * Z;
     ASSERT_EQ(reduced.rows(), expected_motions);
     EXPECT_LT((reduced - explicit_reduced).cwiseAbs().maxCoeff(), 1e-12);
     const Eigen::MatrixXd along = ManifoldSolver::along_motions(act, residuals);
     ASSERT_EQ(along.cols(), expected_motions);
-    EXPECT_LT((along - residuals * act.Z).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT((along - residuals * Z).cwiseAbs().maxCoeff(), 1e-12);
     if (rows == 0) {
       EXPECT_EQ(reduced, h);
       EXPECT_EQ(along, residuals);

@@ -251,9 +251,9 @@ StabilityReport check_stability(const Problem& p,
   const Assembly& a = *p.assembly;
   const Point pt = solver.evaluate(scaled(vars, x));
   const Active act = solver.active_set(pt);
-  if (act.Z.cols() > 0) {
+  if (act.motions() > 0) {
     report.equilibrium_residual =
-        (act.Z.transpose() * ManifoldSolver::rows(pt.g, act.free)).cwiseAbs().maxCoeff();
+        act.onto(ManifoldSolver::rows(pt.g, act.free)).cwiseAbs().maxCoeff();
   }
   const std::vector<int> off = solver.off_bounds(pt);
   const Eigen::MatrixXd J_off = ManifoldSolver::columns(pt.J, off);

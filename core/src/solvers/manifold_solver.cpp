@@ -78,36 +78,63 @@ int revealed_rank(const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr) {
   return rank;
 }
 
-// The motions m's rows allow: Z, an orthonormal basis of m's null space, and the factorisation
-// it comes from (none when m has no rows: Z is the identity). Column-pivoted Householder QR of
-// mᵀ: the first `rank` columns of Q span m's row space and the others its null space. It
-// reveals rank at this tolerance as an SVD does (redundant closure rows leave pivots at
-// round-off), without the SVD's Jacobi sweeps, which were a quarter of a cycle design's step 1.
+// The motions m's rows allow: the factorisation their basis Z comes from (none when m has no
+// rows: Z is the identity). Column-pivoted Householder QR of mᵀ: the first `rank` columns of Q
+// span m's row space and the others its null space. It reveals rank at this tolerance as an
+// SVD does (redundant closure rows leave pivots at round-off), without the SVD's Jacobi
+// sweeps, which were a quarter of a cycle design's step 1. Z itself is not formed: on a
+// 64-hook chain forming it (Q applied to 254 columns) was most of an iteration of step 1's
+// fits, which only multiply by it.
 void set_motions(const Eigen::MatrixXd& m, ManifoldSolver::Active& act) {
   const int n = static_cast<int>(m.cols());
-  if (m.rows() == 0 || n == 0) {
-    act.Z = Eigen::MatrixXd::Identity(n, n);
-    return;
-  }
+  if (m.rows() == 0 || n == 0) return;
   auto qr = std::make_shared<Eigen::ColPivHouseholderQR<Eigen::MatrixXd>>(m.transpose());
-  act.rank = revealed_rank(*qr);
-  if (act.rank >= n) {
-    // Nothing may move: no columns (Eigen's Householder product offsets a null pointer on an
-    // empty matrix, which UBSan calls undefined).
-    act.Z = Eigen::MatrixXd(n, 0);
-  } else {
-    act.Z = Eigen::MatrixXd::Identity(n, n).rightCols(n - act.rank);
-    act.Z.applyOnTheLeft(qr->householderQ());
-  }
+  act.rank = std::min(revealed_rank(*qr), n);
   act.rows_qr = std::move(qr);
 }
 
 }  // namespace
 
+Eigen::VectorXd ManifoldSolver::Active::along(const Eigen::VectorXd& q) const {
+  if (!rows_qr) return q;
+  const int n = static_cast<int>(free.size());
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
+  if (rank >= n) return out;  // nothing may move
+  out.tail(n - rank) = q;
+  out.applyOnTheLeft(rows_qr->householderQ());
+  return out;
+}
+
+Eigen::MatrixXd ManifoldSolver::Active::along(const Eigen::MatrixXd& q) const {
+  if (!rows_qr) return q;
+  const int n = static_cast<int>(free.size());
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, q.cols());
+  // An empty product would offset a null pointer in Eigen's reflectors (UBSan: undefined).
+  if (rank >= n || q.cols() == 0) return out;
+  out.bottomRows(n - rank) = q;
+  out.applyOnTheLeft(rows_qr->householderQ());
+  return out;
+}
+
+Eigen::VectorXd ManifoldSolver::Active::onto(const Eigen::VectorXd& v) const {
+  if (!rows_qr) return v;
+  const int n = static_cast<int>(free.size());
+  if (rank >= n) return Eigen::VectorXd(0);
+  Eigen::VectorXd turned = v;
+  turned.applyOnTheLeft(rows_qr->householderQ().adjoint());
+  return turned.tail(n - rank);
+}
+
+Eigen::MatrixXd ManifoldSolver::Active::basis() const {
+  const int k = motions();
+  return along(Eigen::MatrixXd(Eigen::MatrixXd::Identity(k, k)));
+}
+
 Eigen::MatrixXd ManifoldSolver::null_space(const Eigen::MatrixXd& m) {
   Active act;
+  act.free.resize(static_cast<std::size_t>(m.cols()));
   set_motions(m, act);
-  return act.Z;
+  return act.basis();
 }
 
 Eigen::MatrixXd ManifoldSolver::reduced(const Active& act, const Eigen::MatrixXd& m) {
@@ -472,7 +499,7 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
     if (no_time_for(last)) break;
     const auto began = Clock::now();
     const Active act = active_set(cur);
-    if (act.Z.cols() == 0) break;
+    if (act.motions() == 0) break;
     const Eigen::MatrixXd A = along_motions(act, columns(cur.Jr, act.free));
     const Eigen::VectorXd b = A.transpose() * cur.r;
     if (b.cwiseAbs().maxCoeff() < options_.gradient_tolerance) break;
@@ -509,7 +536,7 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
         M.diagonal().array() += mu * scale;
         p = -M.ldlt().solve(b);
       }
-      Point trial = step(cur, act, act.Z * p);
+      Point trial = step(cur, act, act.along(p));
       if (trial.valid && trial.f < cur.f) {
         moved = cur.f - trial.f > 1e-14 * std::max(1.0, cur.f);
         cur = std::move(trial);
@@ -543,7 +570,7 @@ ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
   Curvature c;
   const Active act = active_set(p);
   c.free = act.free;
-  if (act.Z.cols() == 0 || no_time_for(newton_cost(static_cast<int>(act.Z.cols()), {}))) return c;
+  if (act.motions() == 0 || no_time_for(newton_cost(act.motions(), {}))) return c;
   const Eigen::MatrixXd full = lagrangian_hessian(p, act);
   if (out_of_time()) return c;  // incomplete: no curvature is reported
   const bool unconstrained = act.rows.empty();
@@ -552,7 +579,7 @@ ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
   c.eigenvalues = eig.eigenvalues();
   const Eigen::MatrixXd local =
-      unconstrained ? eig.eigenvectors() : Eigen::MatrixXd(act.Z * eig.eigenvectors());
+      unconstrained ? eig.eigenvectors() : act.along(Eigen::MatrixXd(eig.eigenvectors()));
   c.directions = Eigen::MatrixXd::Zero(n_, local.cols());
   for (std::size_t i = 0; i < act.free.size(); ++i) {
     c.directions.row(act.free[i]) = local.row(static_cast<int>(i));
@@ -614,9 +641,9 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     // (the Hessian and its eigendecomposition are most of an iteration's cost).
     if (!model_current) {
       act = active_set(cur);
-      if (act.Z.cols() == 0) break;
-      motions = static_cast<int>(act.Z.cols());
-      rg = act.Z.transpose() * rows(cur.g, act.free);
+      if (act.motions() == 0) break;
+      motions = act.motions();
+      rg = act.onto(rows(cur.g, act.free));
       const Eigen::MatrixXd full = lagrangian_hessian(cur, act);
       if (out_of_time()) break;
       Eigen::MatrixXd H = reduced(act, full);
@@ -717,7 +744,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     const Eigen::VectorXd q = V.transpose() * p;
     const double predicted = -(c.dot(q) + 0.5 * q.dot(lambda.cwiseProduct(q)));
     if (!(predicted > 0) || p.norm() < 1e-14) break;  // nothing left to gain
-    Point trial = step(cur, act, act.Z * p);
+    Point trial = step(cur, act, act.along(p));
     const double actual = trial.valid ? cur.f - trial.f : -HUGE_VAL;
     double rho = actual / predicted;
     // Near a minimum the decrease a step promises can be below what the potential's value
@@ -729,8 +756,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
       const Active next = active_set(trial);
       const double before = rg.cwiseAbs().maxCoeff();
       const double after =
-          next.Z.cols() > 0 ? (next.Z.transpose() * rows(trial.g, next.free)).cwiseAbs().maxCoeff()
-                            : 0.0;
+          next.motions() > 0 ? next.onto(rows(trial.g, next.free)).cwiseAbs().maxCoeff() : 0.0;
       rho = after < 0.5 * before && actual > -resolvable ? 1.0 : 0.0;
       if (rho > 0) {
         cur = std::move(trial);

@@ -122,11 +122,22 @@ class ManifoldSolver {
     /// Rows of Point::h kept: every equality, and the binding inequalities the objective
     /// presses against (one it pulls away from is let go: a part resting on another may lift).
     std::vector<int> rows;
-    Eigen::MatrixXd Z;  ///< orthonormal basis of the null space of the kept rows on `free`
-    /// Z's source when rows are kept: Z = Q[:, rank:] for the Householder Q of the rows'
-    /// transpose (a handful of reflectors), so Zᵀ·H·Z costs O(n²·rows), not 2n³.
+    /// Z, an orthonormal basis of the null space of the kept rows on `free`, is Q[:, rank:]
+    /// for the Householder Q of the rows' transpose (a handful of reflectors): products with
+    /// it are applied reflector by reflector, O(n·rows), and Zᵀ·H·Z costs O(n²·rows), not 2n³.
+    /// No rows kept: Z is the identity and rows_qr is empty.
     std::shared_ptr<const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>> rows_qr;
     int rank = 0;
+    /// How many motions are allowed: Z's columns.
+    int motions() const { return static_cast<int>(free.size()) - (rows_qr ? rank : 0); }
+    /// Z·q: the motion with coordinates q, on `free`.
+    Eigen::VectorXd along(const Eigen::VectorXd& q) const;
+    /// Z·Q for a matrix of motions' coordinates (one column each).
+    Eigen::MatrixXd along(const Eigen::MatrixXd& q) const;
+    /// Zᵀ·v: v (on `free`) in the motions' coordinates.
+    Eigen::VectorXd onto(const Eigen::VectorXd& v) const;
+    /// Z itself (free × motions), formed column by column.
+    Eigen::MatrixXd basis() const;
   };
   struct Result {
     Eigen::VectorXd z;
