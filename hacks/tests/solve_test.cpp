@@ -475,6 +475,49 @@ TEST(Solve, TheAnswerDoesNotDependOnTheThreadCount) {
                            "paper_towel_holder",
                            "diaper_caddy"})
     designs.emplace_back(name, load_example(name));
+  // A 12-hook chain with its mug as the target (48 variables: step 1's guided start runs
+  // beside the verified one): a goal beside where the mug hangs, which nothing reaches, and
+  // one above it, which the verified start reaches (the guided start is called off).
+  auto chain = [](const std::string& goal) {
+    std::string t =
+        "fabkit: hacks/1\nname: chain\nenvironment:\n  - {name: bar, primitives: {rod: {type: "
+        "rod, radius: 4, length: 300}}, frame: {pos: [0, 0, 6000], rot: [90, 0, 0]}}\nparts:\n";
+    for (int i = 1; i <= 12; ++i) t += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
+    t += goal.empty() ? "  - {name: mug, part: Mug}\n"
+                      : "target: {name: mug, part: Mug, primitive: hook, frame: " + goal + "}\n";
+    t += "connections:\n  - connect: [s1.hook1, bar.rod]\n";
+    for (int i = 2; i <= 12; ++i)
+      t += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
+    return t + "  - connect: [mug.hook, s12.hook2]\n";
+  };
+  {
+    const Design hanging = load_design_text(chain(""), "chain.yaml", PartsLibrary::builtin());
+    ASSERT_TRUE(hanging.feasible()) << hanging.diagnostics.format();
+    const SolveResult rest = solve(hanging.assembly);
+    PartId mug;
+    for (int i = 0; i < hanging.assembly.part_count(); ++i) {
+      if (hanging.assembly.label(PartId{i}) == "mug") mug = PartId{i};
+    }
+    ASSERT_TRUE(mug.valid());
+    const Part& part = *hanging.assembly.node(mug).part;
+    const Frame hook =
+        Frame::from_matrix(hanging.assembly.part_frames(rest.parameters)[mug.index()] *
+                           part.primitive(part.find_primitive("hook")).frame.matrix());
+    for (const Vec3& by : {Vec3(20, 0, 0), Vec3(0, 0, 60)}) {
+      const Vec3 at = hook.pos + by;
+      designs.emplace_back(
+          fmt::format("chain, goal moved by ({}, {}, {})", by.x(), by.y(), by.z()),
+          load_design_text(chain(fmt::format("{{pos: [{}, {}, {}], rot: [{}, {}, {}]}}",
+                                             at.x(),
+                                             at.y(),
+                                             at.z(),
+                                             hook.rot.x(),
+                                             hook.rot.y(),
+                                             hook.rot.z())),
+                           "chain.yaml",
+                           PartsLibrary::builtin()));
+    }
+  }
   for (const auto& [name, d] : designs) {
     SCOPED_TRACE(name);
     ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
