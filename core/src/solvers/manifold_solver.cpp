@@ -93,27 +93,28 @@ void set_motions(const Eigen::MatrixXd& m, ManifoldSolver::Active& act) {
   act.rows_qr = std::move(qr);
 }
 
-}  // namespace
-
-Eigen::VectorXd ManifoldSolver::Active::along(const Eigen::VectorXd& q) const {
-  if (!rows_qr) return q;
-  const int n = static_cast<int>(free.size());
-  Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
-  if (rank >= n) return out;  // nothing may move
-  out.tail(n - rank) = q;
-  out.applyOnTheLeft(rows_qr->householderQ());
+// Z·q for a vector or a matrix of motions' coordinates: q below the rank, turned by the
+// reflectors.
+template <typename Dense>
+Dense along_basis(const ManifoldSolver::Active& act, const Dense& q) {
+  if (!act.rows_qr) return q;
+  const int n = static_cast<int>(act.free.size());
+  Dense out = Dense::Zero(n, q.cols());
+  // An empty product would offset a null pointer in Eigen's reflectors (UBSan: undefined).
+  if (act.rank >= n || q.cols() == 0) return out;
+  out.bottomRows(n - act.rank) = q;
+  out.applyOnTheLeft(act.rows_qr->householderQ());
   return out;
 }
 
+}  // namespace
+
+Eigen::VectorXd ManifoldSolver::Active::along(const Eigen::VectorXd& q) const {
+  return along_basis(*this, q);
+}
+
 Eigen::MatrixXd ManifoldSolver::Active::along(const Eigen::MatrixXd& q) const {
-  if (!rows_qr) return q;
-  const int n = static_cast<int>(free.size());
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, q.cols());
-  // An empty product would offset a null pointer in Eigen's reflectors (UBSan: undefined).
-  if (rank >= n || q.cols() == 0) return out;
-  out.bottomRows(n - rank) = q;
-  out.applyOnTheLeft(rows_qr->householderQ());
-  return out;
+  return along_basis(*this, q);
 }
 
 Eigen::VectorXd ManifoldSolver::Active::onto(const Eigen::VectorXd& v) const {
