@@ -1,12 +1,7 @@
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
-#include <future>
 #include <numbers>
 #include <optional>
-#include <thread>
-#include <utility>
 
 #include "fabkit/core/parallel.h"
 #include "random.h"
@@ -207,64 +202,35 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   // threads finished them in, and a start after one that reached the target is not taken.
   const int starts = std::max(1, o.target_starts);
   std::vector<std::optional<StepResult>> fits(static_cast<std::size_t>(starts));
-  // The starts after the verified one: up to start 3 when it reached the target (only the
-  // half-turn start is wanted then), else all; the random ones give up far from its fit.
-  auto last_start = [&] { return reached() ? std::min(3, starts) : starts; };
-  const int workers = std::min(thread_count(o.threads), starts);
-  if (workers > 1 && static_cast<int>(vars.index.size()) >= kGuidedBesideFrom) {
+  int first = 1;  // the first start after the verified one still to fit
+  if (thread_count(o.threads) > 1 && starts > 1 &&
+      static_cast<int>(vars.index.size()) >= kGuidedBesideFrom) {
     // The guided start does not depend on the verified start's fit (it gives nothing up), so
     // it runs beside it, called off if the verified start reaches the target (then it is not
-    // wanted). The other threads wait for the verified start, then all take the rest.
+    // wanted).
     Problem guided = p;
     const auto guided_clock = std::make_shared<const StopClock>(p.stop);
     guided.stop = guided_clock;
-    std::promise<std::pair<int, double>> verified;  // the last start wanted, and give_up
-    const std::shared_future<std::pair<int, double>> rest = verified.get_future().share();
-    std::atomic<int> next{2};
-    auto take_rest = [&] {
-      const auto [last, give_up] = rest.get();
-      for (int s = next++; s < last; s = next++) {
-        fits[static_cast<std::size_t>(s)] = fit_from_start(p, vars, o, s, give_up);
+    run_in_parallel(2, o.threads, [&](int k) {
+      if (k == 1) {
+        fits[1] = fit_from_start(guided, vars, o, 1, 0.0);
+        return;
       }
-    };
-    std::vector<std::exception_ptr> errors(static_cast<std::size_t>(workers));
-    std::vector<std::thread> helpers;
-    for (int w = 1; w < workers; ++w) {
-      helpers.emplace_back([&, w] {
-        try {
-          if (w == 1) fits[1] = fit_from_start(guided, vars, o, 1, 0.0);
-          take_rest();
-        } catch (...) {
-          errors[static_cast<std::size_t>(w)] = std::current_exception();
-        }
-      });
-    }
-    bool published = false;
-    try {
       fits[0] = fit_from_start(p, vars, o, 0, 0.0);
       take(0, fits[0]);
       if (reached()) guided_clock->call_off();
-      verified.set_value({last_start(), 5 * best_score});
-      published = true;
-      take_rest();
-    } catch (...) {
-      errors[0] = std::current_exception();
-      guided_clock->call_off();
-      if (!published) verified.set_value({0, 0.0});  // the helpers stop
-    }
-    for (std::thread& t : helpers) t.join();
-    for (const std::exception_ptr& e : errors) {
-      if (e) std::rethrow_exception(e);
-    }
+    });
+    first = 2;
   } else {
     fits[0] = fit_from_start(p, vars, o, 0, 0.0);
     take(0, fits[0]);
-    const int first = reached() ? 2 : 1;
-    const double give_up = 5 * best_score;
-    run_in_parallel(std::max(0, last_start() - first), o.threads, [&](int k) {
-      fits[static_cast<std::size_t>(first + k)] = fit_from_start(p, vars, o, first + k, give_up);
-    });
   }
+  if (reached()) first = 2;
+  const int last = reached() ? std::min(3, starts) : starts;
+  const double give_up = 5 * best_score;
+  run_in_parallel(std::max(0, last - first), o.threads, [&](int k) {
+    fits[static_cast<std::size_t>(first + k)] = fit_from_start(p, vars, o, first + k, give_up);
+  });
   for (int start = 1; start < starts; ++start) {
     if (start == 1 && reached()) continue;
     if (start > 2 && reached()) break;
