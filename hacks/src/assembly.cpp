@@ -497,7 +497,6 @@ ConnectionId Assembly::record_connection(ConnectPlan& plan, const ConnectOptions
   std::vector<ParamSpec> params1 = p1.connector_params();
   std::vector<ParamSpec> params2 = p2.connector_params();
   shape_connector_params(p1, p2, plan.closes_cycle, options.fixed, params1, params2);
-  const AlignmentOffset align = alignment_offset(p1.connector_kind(), p2.connector_kind());
   // Where around a rod the contact starts: on top, seen in the world, for a rod whose part is
   // placed already, so that the start does not depend on how the rod happens to be spun.
   auto start_on_top = [&](PartId part, const Primitive& prim, std::vector<ParamSpec>& params) {
@@ -516,7 +515,7 @@ ConnectionId Assembly::record_connection(ConnectPlan& plan, const ConnectOptions
   const ConnectionId id{static_cast<int>(connections_.size())};
   Connection conn;
   conn.alignment = options.alignment;
-  conn.offset = align.matrix(options.alignment);
+  conn.offset = alignment_matrix(p1.connector_kind(), p2.connector_kind(), options.alignment);
   conn.offset_rigid = Rigid<double>::from_matrix(conn.offset);
   conn.fixed = options.fixed;
   conn.closes_cycle = plan.closes_cycle;

@@ -163,6 +163,51 @@ AlignmentOffset alignment_offset(ConnectorKind first, ConnectorKind second) {
 }
 
 namespace {
+// The order in which a pair of kinds reads the alignment table (alignment_matrix). Kinds of
+// one class (a hook and a flexible hook) share a rank: their rows are half turns or the
+// identity, the same read either way.
+int host_rank(ConnectorKind k) {
+  switch (k) {
+    case ConnectorKind::kEdge:
+      return 0;
+    case ConnectorKind::kSurface:
+      return 1;
+    case ConnectorKind::kRing:
+    case ConnectorKind::kRingFlex:
+    case ConnectorKind::kRingCenterline:
+      return 2;
+    case ConnectorKind::kHook:
+    case ConnectorKind::kHookFlex:
+      return 3;
+    case ConnectorKind::kRod:
+    case ConnectorKind::kRodCenterline:
+      return 4;
+    case ConnectorKind::kTube:
+    case ConnectorKind::kTubeCenterline:
+      return 5;
+    case ConnectorKind::kClip:
+      return 6;
+    case ConnectorKind::kHemisphere:
+      return 7;
+  }
+  return 8;
+}
+}  // namespace
+
+Mat4 alignment_matrix(ConnectorKind first, ConnectorKind second, AlignmentChoice choice) {
+  const Mat4 forward = alignment_offset(first, second).matrix(choice);
+  if (host_rank(second) >= host_rank(first)) return forward;
+  // Read the other way: C_second · A' = C_first, so C_first · A'⁻¹ = C_second. Where the two
+  // directions of the table agree (A·A' = I: the half turns and the identity, most pairs) the
+  // forward row is kept as it is, to the last bit.
+  const Mat4 reverse = alignment_offset(second, first).matrix(choice);
+  if ((forward * reverse - Mat4::Identity()).cwiseAbs().maxCoeff() < 1e-12) return forward;
+  Mat4 inverse = Mat4::Identity();
+  inverse.topLeftCorner<3, 3>() = reverse.topLeftCorner<3, 3>().transpose();
+  return inverse;
+}
+
+namespace {
 // The free radius inside a hook's or ring's wire: its arc radius (to the wire's centre line)
 // less the wire's radius. What passes through must fit in this.
 double opening(const Primitive& p) {

@@ -65,6 +65,55 @@ TEST(ConnectionRules, AlignmentOffsetsAndFlips) {
   EXPECT_FALSE(hemi.flippable());
 }
 
+// A connection means one thing whichever of its sides came first: the offset read one way is
+// the inverse of the offset read the other, for every pair of kinds and either alignment (the
+// table's own two directions are not: Tube/Hook is a quarter turn both ways).
+TEST(ConnectionRules, AlignmentReadEitherWayIsOneConnection) {
+  const ConnectorKind kinds[] = {ConnectorKind::kRod,
+                                 ConnectorKind::kRodCenterline,
+                                 ConnectorKind::kHook,
+                                 ConnectorKind::kHookFlex,
+                                 ConnectorKind::kRing,
+                                 ConnectorKind::kRingFlex,
+                                 ConnectorKind::kRingCenterline,
+                                 ConnectorKind::kTube,
+                                 ConnectorKind::kTubeCenterline,
+                                 ConnectorKind::kClip,
+                                 ConnectorKind::kEdge,
+                                 ConnectorKind::kSurface,
+                                 ConnectorKind::kHemisphere};
+  int not_inverse_in_table = 0;
+  for (ConnectorKind a : kinds) {
+    for (ConnectorKind b : kinds) {
+      for (AlignmentChoice choice : {AlignmentChoice::kDefault, AlignmentChoice::kFlip}) {
+        const Mat4 ab = alignment_matrix(a, b, choice);
+        const Mat4 ba = alignment_matrix(b, a, choice);
+        EXPECT_LT((ab * ba - Mat4::Identity()).cwiseAbs().maxCoeff(), 1e-12)
+            << to_string(a) << "_" << to_string(b) << " " << to_string(choice);
+        // Each offset is a rotation.
+        EXPECT_LT(
+            (ab.topLeftCorner<3, 3>().transpose() * ab.topLeftCorner<3, 3>() - Mat3::Identity())
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-12);
+        const Mat4 table =
+            alignment_offset(a, b).matrix(choice) * alignment_offset(b, a).matrix(choice);
+        if ((table - Mat4::Identity()).cwiseAbs().maxCoeff() > 1e-9) ++not_inverse_in_table;
+      }
+    }
+  }
+  // The table itself has pairs whose two directions disagree (why alignment_matrix exists).
+  EXPECT_GT(not_inverse_in_table, 0);
+  // Where the table's directions agree, the offset is the table's row as it stands.
+  EXPECT_EQ(alignment_matrix(ConnectorKind::kHook, ConnectorKind::kRod, AlignmentChoice::kDefault),
+            alignment_offset(ConnectorKind::kHook, ConnectorKind::kRod)
+                .matrix(AlignmentChoice::kDefault));
+  // Tube/Hook: read hook first, whichever side the hook is on.
+  EXPECT_EQ(alignment_matrix(ConnectorKind::kHook, ConnectorKind::kTube, AlignmentChoice::kDefault),
+            alignment_offset(ConnectorKind::kHook, ConnectorKind::kTube)
+                .matrix(AlignmentChoice::kDefault));
+}
+
 Primitive rod(double r, double l, bool open = true) {
   PrimitiveShape s;
   s.radius = r;

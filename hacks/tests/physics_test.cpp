@@ -84,6 +84,7 @@ struct Outcome {
   double target_mm = 0;  // target position error
   double tilt_deg = 0;
   std::vector<Vec3> positions;  // part origins, in the world
+  std::map<std::string, Vec3> by_name;  // the same, by the parts' names
   std::string summary;
 };
 
@@ -98,7 +99,10 @@ Outcome solve_text(const std::string& yaml) {
   for (const PartNode& n : d.assembly.nodes()) o.mass += n.environment ? 0.0 : n.part->mass;
   o.target_mm = r.target.position_mm;
   o.tilt_deg = r.target.tilt_deg;
-  for (const SolvedPart& p : r.parts) o.positions.push_back(p.frame.pos);
+  for (const SolvedPart& p : r.parts) {
+    o.positions.push_back(p.frame.pos);
+    o.by_name[p.name] = p.frame.pos;
+  }
   o.summary = r.summary();
   return o;
 }
@@ -243,6 +247,84 @@ TEST(Physics, TheOrderOfConnectsDoesNotMatter) {
       if (!a.stable) continue;  // not at rest: only the verdicts must agree (see above)
       EXPECT_NEAR(a.energy / a.mass, b.energy / b.mass, 0.05) << a.summary << b.summary;
     }
+  }
+}
+
+// Every order of the connects in which each one finds a side already placed, the orders that
+// move where a cycle closes included (a part that came in through one connection coming in
+// through another): the same connections, the same answer. A broom handle hung from two eye
+// hooks used to read its two tube-hook connections' alignment in opposite senses when the
+// second eye hook's connect came first, and no start could reach the target.
+TEST(Physics, BuildingACycleFromItsOtherEndRestsTheSame) {
+  for (const std::string& name :
+       {std::string("paper_towel_holder"), std::string("charger_holder")}) {
+    SCOPED_TRACE(name);
+    const std::string yaml = read_example(name);
+    const YAML::Node root = YAML::Load(yaml);
+    std::set<std::string> environment;
+    for (const auto& e : root["environment"]) environment.insert(e["name"].as<std::string>());
+    std::vector<YAML::Node> connects;
+    for (const auto& c : root["connections"]) connects.push_back(YAML::Clone(c));
+    auto part_of = [](const YAML::Node& ref) {
+      const std::string s = ref.as<std::string>();
+      return s.substr(0, s.find('.'));
+    };
+    const Outcome a = solve_text(yaml);
+    ASSERT_TRUE(a.stable) << a.summary;
+    std::vector<std::size_t> order(connects.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    int tried = 0;
+    int moved_closure = 0;
+    do {
+      std::set<std::string> placed = environment;
+      bool valid = true;
+      for (std::size_t i : order) {
+        const std::string p = part_of(connects[i]["connect"][0]);
+        const std::string q = part_of(connects[i]["connect"][1]);
+        valid = valid && (placed.count(p) || placed.count(q));
+        placed.insert(p);
+        placed.insert(q);
+      }
+      if (!valid) continue;
+      // Whether a connect that closed a cycle in the file's order is a tree edge here.
+      std::set<std::string> in = environment;
+      std::set<std::size_t> closing;
+      for (std::size_t i = 0; i < connects.size(); ++i) {
+        const std::string p = part_of(connects[i]["connect"][0]);
+        const std::string q = part_of(connects[i]["connect"][1]);
+        if (in.count(p) && in.count(q)) closing.insert(i);
+        in.insert(p);
+        in.insert(q);
+      }
+      in = environment;
+      for (std::size_t i : order) {
+        const std::string p = part_of(connects[i]["connect"][0]);
+        const std::string q = part_of(connects[i]["connect"][1]);
+        if (closing.count(i) && !(in.count(p) && in.count(q))) {
+          ++moved_closure;
+          break;
+        }
+        in.insert(p);
+        in.insert(q);
+      }
+      YAML::Node shuffled = YAML::Clone(root);
+      YAML::Node list(YAML::NodeType::Sequence);
+      for (std::size_t i : order) list.push_back(YAML::Clone(connects[i]));
+      shuffled["connections"] = list;
+      const Outcome b = solve_text(emit(shuffled));
+      ++tried;
+      EXPECT_EQ(a.stable, b.stable) << a.summary << b.summary;
+      EXPECT_NEAR(a.target_mm, b.target_mm, 0.01) << a.summary << b.summary;
+      EXPECT_NEAR(a.energy / a.mass, b.energy / b.mass, 0.05) << a.summary << b.summary;
+      // Parts are numbered in the order they come in: compared by name.
+      ASSERT_EQ(a.by_name.size(), b.by_name.size());
+      for (const auto& [part, at] : a.by_name) {
+        ASSERT_TRUE(b.by_name.count(part)) << part;
+        EXPECT_NEAR(at.z(), b.by_name.at(part).z(), 1.0) << part;
+      }
+    } while (std::next_permutation(order.begin(), order.end()));
+    EXPECT_GE(tried, 2);
+    EXPECT_GE(moved_closure, 1) << "no order moved where a cycle closes";
   }
 }
 

@@ -40,6 +40,17 @@ struct AlignmentOffset {
 /// then by class ("Hook_Rod"); pairs without an entry align with the identity.
 AlignmentOffset alignment_offset(ConnectorKind first, ConnectorKind second);
 
+/// The offset A of a connection between `first` and `second` (the primitive already in the
+/// assembly and the new one, or the two sides of a cycle-closing connect): the connection
+/// holds where C_first · A = C_second. The table is keyed by ordered pairs whose two
+/// directions are not always each other's inverse (Tube/Hook is a quarter turn both ways), so
+/// that reading it in whichever order the connects happened to come gave one connect two
+/// meanings: a broom handle held by two eye hooks could not reach its target when the other
+/// eye hook's connect came first. Each pair of kinds is read in one fixed order (the host
+/// first: edge, surface, ring, hook, rod, tube, clip, hemisphere), and inverted when the
+/// connection's sides come the other way.
+Mat4 alignment_matrix(ConnectorKind first, ConnectorKind second, AlignmentChoice choice);
+
 /// A primitive as the checks see it: its label for messages ("DoubleHook#2.hook1") and
 /// its currently available critical dimension (empty if it has none).
 struct PrimitiveInUse {
