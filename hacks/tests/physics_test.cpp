@@ -83,7 +83,7 @@ struct Outcome {
   double mass = 0;       // Σ m of the parts that move
   double target_mm = 0;  // target position error
   double tilt_deg = 0;
-  std::vector<Vec3> positions;  // part origins, in the world
+  std::vector<Vec3> positions;          // part origins, in the world
   std::map<std::string, Vec3> by_name;  // the same, by the parts' names
   std::string summary;
 };
