@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <set>
+#include <tuple>
 
 #include "constraints.h"
 #include "cycle_closure.h"
@@ -431,7 +432,20 @@ std::optional<Assembly::ConnectPlan> Assembly::plan_connect(const PrimitiveRef& 
   plan.first = a_in ? a : b;
   plan.second = a_in ? b : a;
   plan.first_part = a_in ? *a_in : *b_in;
-  if (plan.closes_cycle) plan.second_part = *b_in;
+  if (plan.closes_cycle) {
+    plan.second_part = *b_in;
+    // A cycle-closing connect is one connection whichever of its sides is written first: its
+    // sides are put in one order (the host's kind first, then by name), so that its closure
+    // is computed the same way both times (a part coming in is placed from the host, above).
+    auto key = [&](const PrimitiveRef& r, PartId id) {
+      return std::make_tuple(
+          host_rank(r.primitive().connector_kind()), label(id), r.primitive().name);
+    };
+    if (key(plan.second, plan.second_part) < key(plan.first, plan.first_part)) {
+      std::swap(plan.first, plan.second);
+      std::swap(plan.first_part, plan.second_part);
+    }
+  }
   return plan;
 }
 
