@@ -444,6 +444,7 @@ std::optional<Assembly::ConnectPlan> Assembly::plan_connect(const PrimitiveRef& 
     if (key(plan.second, plan.second_part) < key(plan.first, plan.first_part)) {
       std::swap(plan.first, plan.second);
       std::swap(plan.first_part, plan.second_part);
+      plan.named_other_way = true;
     }
   }
   return plan;
@@ -533,6 +534,7 @@ ConnectionId Assembly::record_connection(ConnectPlan& plan, const ConnectOptions
   conn.offset_rigid = Rigid<double>::from_matrix(conn.offset);
   conn.fixed = options.fixed;
   conn.closes_cycle = plan.closes_cycle;
+  conn.named_other_way = plan.named_other_way;
   conn.where = options.where;
   conn.first = make_connector(plan.first_part, plan.first.index, params1);
   for (const ParamSpec& s : params1) {
@@ -732,6 +734,8 @@ std::string Assembly::describe_cycle(ConnectionId closing) const {
   }
   items.push_back(
       label(loop.second_side.back(), top_primitive(loop.second_side, c.second.primitive)));
+  // Named from the side the connect was written with first.
+  if (c.named_other_way) std::reverse(items.begin(), items.end());
   std::string out;
   for (std::size_t i = 0; i < items.size(); ++i) {
     if (i > 0) out += " – ";
