@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <set>
-#include <tuple>
 
 #include "constraints.h"
 #include "cycle_closure.h"
@@ -432,21 +431,7 @@ std::optional<Assembly::ConnectPlan> Assembly::plan_connect(const PrimitiveRef& 
   plan.first = a_in ? a : b;
   plan.second = a_in ? b : a;
   plan.first_part = a_in ? *a_in : *b_in;
-  if (plan.closes_cycle) {
-    plan.second_part = *b_in;
-    // A cycle-closing connect is one connection whichever of its sides is written first: its
-    // sides are put in one order (the host's kind first, then by name), so that its closure
-    // is computed the same way both times (a part coming in is placed from the host, above).
-    auto key = [&](const PrimitiveRef& r, PartId id) {
-      return std::make_tuple(
-          host_rank(r.primitive().connector_kind()), label(id), r.primitive().name);
-    };
-    if (key(plan.second, plan.second_part) < key(plan.first, plan.first_part)) {
-      std::swap(plan.first, plan.second);
-      std::swap(plan.first_part, plan.second_part);
-      plan.named_other_way = true;
-    }
-  }
+  if (plan.closes_cycle) plan.second_part = *b_in;
   return plan;
 }
 
@@ -534,7 +519,6 @@ ConnectionId Assembly::record_connection(ConnectPlan& plan, const ConnectOptions
   conn.offset_rigid = Rigid<double>::from_matrix(conn.offset);
   conn.fixed = options.fixed;
   conn.closes_cycle = plan.closes_cycle;
-  conn.named_other_way = plan.named_other_way;
   conn.where = options.where;
   conn.first = make_connector(plan.first_part, plan.first.index, params1);
   for (const ParamSpec& s : params1) {
@@ -734,8 +718,6 @@ std::string Assembly::describe_cycle(ConnectionId closing) const {
   }
   items.push_back(
       label(loop.second_side.back(), top_primitive(loop.second_side, c.second.primitive)));
-  // Named from the side the connect was written with first.
-  if (c.named_other_way) std::reverse(items.begin(), items.end());
   std::string out;
   for (std::size_t i = 0; i < items.size(); ++i) {
     if (i > 0) out += " – ";

@@ -162,6 +162,7 @@ AlignmentOffset alignment_offset(ConnectorKind first, ConnectorKind second) {
   return out;
 }
 
+namespace {
 // The order in which a pair of kinds reads the alignment table (alignment_matrix). Kinds of
 // one class (a hook and a flexible hook) share a rank: their rows are half turns or the
 // identity, the same read either way.
@@ -191,6 +192,7 @@ int host_rank(ConnectorKind k) {
   }
   return 8;
 }
+}  // namespace
 
 Mat4 alignment_matrix(ConnectorKind first, ConnectorKind second, AlignmentChoice choice) {
   const Mat4 forward = alignment_offset(first, second).matrix(choice);

@@ -341,14 +341,8 @@ PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closin
   }
   const PrimitiveId top_a = down_primitive(path_a, below_a, c.first.primitive);
   const PrimitiveId top_b = down_primitive(path_b, below_b, c.second.primitive);
-  // Sides named in the order the connect was written (Connection::named_other_way).
-  const bool named_b_first = c.named_other_way;
   if (common_ancestor) {
-    if (named_b_first) {
-      add_segment(path_a.back(), top_b, top_a);
-    } else {
-      add_segment(path_a.back(), top_a, top_b);
-    }
+    add_segment(path_a.back(), top_a, top_b);
   } else {
     // Two environments: both are fixed in the world, so measure between them, in the first
     // one's frame: the range depends on where one stands relative to the other only, and the
@@ -357,10 +351,9 @@ PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closin
     const PartNode& eb = assembly.node(path_b.back());
     const Mat4 b_from_a = rigid_inverse(ea.frame.matrix()) * eb.frame.matrix();
     CycleSegment seg;
-    const std::string label_a = assembly.label(path_a.back(), top_a);
-    const std::string label_b = assembly.label(path_b.back(), top_b);
-    seg.description = named_b_first ? fmt::format("between {} and {}", label_b, label_a)
-                                    : fmt::format("between {} and {}", label_a, label_b);
+    seg.description = fmt::format("between {} and {}",
+                                  assembly.label(path_a.back(), top_a),
+                                  assembly.label(path_b.back(), top_b));
     seg.range = connector_distance_range(
         ea.part->primitive(top_a), identity, eb.part->primitive(top_b), b_from_a, false);
     verdict.segments.push_back(seg);

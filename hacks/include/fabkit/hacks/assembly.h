@@ -78,9 +78,6 @@ struct Connection {
   Rigid<double> offset_rigid;      ///< the same offset, for the solvers
   bool fixed = false;
   bool closes_cycle = false;
-  /// A cycle-closing connect whose sides were written the other way round (its sides are put
-  /// in one order whatever the writing; messages name its cycle in the writing's order).
-  bool named_other_way = false;
   SourceLocation where;
 };
 
@@ -242,7 +239,6 @@ class Assembly {
     PartId first_part;
     PartId second_part;  ///< for a new part: set once it joins the trial copy
     bool closes_cycle = false;
-    bool named_other_way = false;  ///< a closing connect written second side first
   };
   std::optional<ConnectPlan> plan_connect(const PrimitiveRef& a,
                                           const PrimitiveRef& b,

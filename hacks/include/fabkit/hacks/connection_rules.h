@@ -50,8 +50,6 @@ AlignmentOffset alignment_offset(ConnectorKind first, ConnectorKind second);
 /// first: edge, surface, ring, hook, rod, tube, clip, hemisphere), and inverted when the
 /// connection's sides come the other way.
 Mat4 alignment_matrix(ConnectorKind first, ConnectorKind second, AlignmentChoice choice);
-/// That order: lower ranks are read first.
-int host_rank(ConnectorKind k);
 
 /// A primitive as the checks see it: its label for messages ("DoubleHook#2.hook1") and
 /// its currently available critical dimension (empty if it has none).
