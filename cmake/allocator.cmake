@@ -1,7 +1,8 @@
 # The programs that solve link mimalloc (Debian's libmimalloc-dev) in place of glibc's malloc.
 # A solve allocates and frees many small Eigen matrices on several threads at once; measured
-# (docs/benchmarks.md, "mimalloc"): the solve stage about 5 % faster, whole `fabkit solve`
-# processes up to 2.5 ms faster. Numbers do not move: only where memory comes from changes.
+# (docs/benchmarks.md, "The fourth stop of 2026-12-05"): the solve stage 2–10 % faster, whole
+# `fabkit solve` processes within noise. Numbers do not move: only where memory comes from
+# changes.
 # Not under the sanitizers (they bring their own allocator) and not in the Python module (a
 # library loaded into a running interpreter cannot take malloc over safely).
 #

@@ -163,34 +163,14 @@ AlignmentOffset alignment_offset(ConnectorKind first, ConnectorKind second) {
 }
 
 namespace {
-// The order in which a pair of kinds reads the alignment table (alignment_matrix). Kinds of
-// one class (a hook and a flexible hook) share a rank: their rows are half turns or the
-// identity, the same read either way.
-int host_rank(ConnectorKind k) {
-  switch (k) {
-    case ConnectorKind::kEdge:
-      return 0;
-    case ConnectorKind::kSurface:
-      return 1;
-    case ConnectorKind::kRing:
-    case ConnectorKind::kRingFlex:
-    case ConnectorKind::kRingCenterline:
-      return 2;
-    case ConnectorKind::kHook:
-    case ConnectorKind::kHookFlex:
-      return 3;
-    case ConnectorKind::kRod:
-    case ConnectorKind::kRodCenterline:
-      return 4;
-    case ConnectorKind::kTube:
-    case ConnectorKind::kTubeCenterline:
-      return 5;
-    case ConnectorKind::kClip:
-      return 6;
-    case ConnectorKind::kHemisphere:
-      return 7;
-  }
-  return 8;
+// The order in which a pair of kinds reads the alignment table (alignment_matrix), by class:
+// kinds of one class (a hook and a flexible hook) share a rank, their rows being half turns or
+// the identity, the same read either way.
+std::size_t host_rank(ConnectorKind k) {
+  static constexpr std::array<std::string_view, 8> kHostFirst = {
+      "Edge", "Surface", "Ring", "Hook", "Rod", "Tube", "Clip", "Hemisphere"};
+  return static_cast<std::size_t>(std::find(kHostFirst.begin(), kHostFirst.end(), class_name(k)) -
+                                  kHostFirst.begin());
 }
 }  // namespace
 

@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <set>
 #include <sstream>
@@ -285,44 +286,33 @@ TEST(Physics, BuildingACycleFromItsOtherEndRestsTheSame) {
       const std::string s = ref.as<std::string>();
       return s.substr(0, s.find('.'));
     };
+    // The connects that close a cycle when applied in `order`; nothing if one of them finds
+    // neither of its sides placed.
+    auto closing_in =
+        [&](const std::vector<std::size_t>& order) -> std::optional<std::set<std::size_t>> {
+      std::set<std::string> placed = environment;
+      std::set<std::size_t> closing;
+      for (std::size_t i : order) {
+        const std::string p = part_of(connects[i]["connect"][0]);
+        const std::string q = part_of(connects[i]["connect"][1]);
+        if (!placed.count(p) && !placed.count(q)) return std::nullopt;
+        if (placed.count(p) && placed.count(q)) closing.insert(i);
+        placed.insert(p);
+        placed.insert(q);
+      }
+      return closing;
+    };
     const Outcome a = solve_text(yaml);
     ASSERT_TRUE(a.stable) << a.summary;
     std::vector<std::size_t> order(connects.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    const std::set<std::size_t> closing_in_file = *closing_in(order);
     int tried = 0;
     int moved_closure = 0;
     do {
-      std::set<std::string> placed = environment;
-      bool valid = true;
-      for (std::size_t i : order) {
-        const std::string p = part_of(connects[i]["connect"][0]);
-        const std::string q = part_of(connects[i]["connect"][1]);
-        valid = valid && (placed.count(p) || placed.count(q));
-        placed.insert(p);
-        placed.insert(q);
-      }
-      if (!valid) continue;
-      // Whether a connect that closed a cycle in the file's order is a tree edge here.
-      std::set<std::string> in = environment;
-      std::set<std::size_t> closing;
-      for (std::size_t i = 0; i < connects.size(); ++i) {
-        const std::string p = part_of(connects[i]["connect"][0]);
-        const std::string q = part_of(connects[i]["connect"][1]);
-        if (in.count(p) && in.count(q)) closing.insert(i);
-        in.insert(p);
-        in.insert(q);
-      }
-      in = environment;
-      for (std::size_t i : order) {
-        const std::string p = part_of(connects[i]["connect"][0]);
-        const std::string q = part_of(connects[i]["connect"][1]);
-        if (closing.count(i) && !(in.count(p) && in.count(q))) {
-          ++moved_closure;
-          break;
-        }
-        in.insert(p);
-        in.insert(q);
-      }
+      const std::optional<std::set<std::size_t>> closing = closing_in(order);
+      if (!closing) continue;
+      if (*closing != closing_in_file) ++moved_closure;
       YAML::Node shuffled = YAML::Clone(root);
       YAML::Node list(YAML::NodeType::Sequence);
       for (std::size_t i : order) list.push_back(YAML::Clone(connects[i]));
