@@ -11,8 +11,10 @@
 #include <cmath>
 #include <optional>
 
+#include "cycle_closure.h"
 #include "fabkit/core/parallel.h"
 #include "fabkit/hacks/diagnostic_codes.h"
+#include "random.h"
 #include "steps.h"
 
 namespace fabkit::hacks {
@@ -20,6 +22,23 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using namespace detail;
+
+// Other ways a group's cycles may close, tried when it does not hold where its verified
+// configuration relaxes to (solve(), relax_free_group), and the random stream they draw from.
+constexpr int kOtherClosings = 8;
+constexpr int kOtherClosingStream = 2000;
+
+// The group's potential at x: Σ m·z of its parts' centres of mass (mass units · mm).
+double group_energy(const Problem& p, const std::vector<double>& x) {
+  const std::vector<Mat4> frames = p.assembly->part_frames(x);
+  double energy = 0;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (p.masses[i] <= 0) continue;
+    energy += p.masses[i] *
+              (frames[i].topLeftCorner<3, 3>() * p.coms[i] + frames[i].topRightCorner<3, 1>()).z();
+  }
+  return energy;
+}
 
 double ms_since(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
@@ -319,6 +338,70 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     }
     if (best) outcomes[static_cast<std::size_t>(g)] = std::move(*best);
   };
+  // A group the target does not steer rests from its verified configuration: one of the ways
+  // its cycles close (which way each hook faces, how a chain is threaded), the one the order of
+  // the connects happened to reach. Where it does not hold there (a hook slides off, parts
+  // pass through each other), "falls apart" would be the verdict on that one way of hanging
+  // it: other ways are tried (every unbounded angle half a turn round, then seeded random
+  // closings), all of them. A design built from its other end or mirrored then gets the same
+  // verdict. Where the first way holds nothing else is tried: a chain with several rest states
+  // rests in the one its verified configuration leads to (docs/hacks.md).
+  auto relax_free_group = [&](int g, const SolveOptions& opts) {
+    GroupOutcome first = relax_and_judge(group_problem(g), step1.x, opts);
+    if (holds(first) || !first.movable || stop->passed()) return first;
+    const Problem problem = group_problem(g);
+    const Variables vars = select_variables(assembly, /*physics=*/false, &problem);
+    std::vector<std::vector<double>> starts;
+    std::vector<std::vector<Mat4>> seen{assembly.part_frames(step1.x)};
+    for (int k = 0; k < kOtherClosings && !stop->passed(); ++k) {
+      std::vector<double> x0 = step1.x;
+      for (int v : vars.index) {
+        const ParamSpec& s = assembly.parameters()[static_cast<std::size_t>(v)].spec;
+        double& value = x0[static_cast<std::size_t>(v)];
+        if (k == 0) {
+          if (s.tag == ParamTag::kUnbounded) value += 180.0;
+        } else if (k % 2 == 0 || s.tag == ParamTag::kUnbounded) {
+          value = s.lo +
+                  keyed_uniform(options.seed, kOtherClosingStream + k, assembly.parameter_key(v)) *
+                      (s.hi - s.lo);
+        }
+      }
+      VerifyOptions v;
+      v.restarts = 1;
+      v.stretch_start = false;
+      v.seed = options.seed;
+      v.deadline = options.deadline;
+      const ClosureResult closed = close_cycles(assembly, x0, v, g);
+      if (!closed.closed) continue;
+      const std::vector<Mat4> frames = assembly.part_frames(closed.x);
+      bool again = false;
+      for (const std::vector<Mat4>& f : seen) again = again || same_poses(f, frames);
+      if (again) continue;
+      seen.push_back(frames);
+      starts.push_back(closed.x);
+    }
+    std::vector<std::optional<GroupOutcome>> tried(starts.size());
+    const SolveOptions each = sharing(opts, static_cast<int>(starts.size()));
+    run_in_parallel(static_cast<int>(starts.size()), opts.threads, [&](int k) {
+      if (!stop->passed()) {
+        tried[static_cast<std::size_t>(k)] =
+            relax_and_judge(group_problem(g), starts[static_cast<std::size_t>(k)], each);
+      }
+    });
+    // What holds wins, the lowest potential among what holds; the verified configuration's
+    // outcome wins ties, and stands (with what it says went wrong) when nothing holds.
+    GroupOutcome best = std::move(first);
+    double best_energy = group_energy(problem, best.x);
+    for (std::optional<GroupOutcome>& o : tried) {
+      if (!o || !holds(*o)) continue;
+      const double energy = group_energy(problem, o->x);
+      if (!holds(best) || energy < best_energy - 1e-9 * std::max(1.0, std::abs(best_energy))) {
+        best = std::move(*o);
+        best_energy = energy;
+      }
+    }
+    return best;
+  };
   // The groups share nothing they change (each writes its own outcome; the target's group
   // alone writes the candidates' bookkeeping), so they relax at once, the target's first.
   std::vector<int> order;
@@ -332,7 +415,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     if (g == target_group) {
       relax_target_group(per_group);
     } else {
-      outcomes[static_cast<std::size_t>(g)] = relax_and_judge(group_problem(g), step1.x, per_group);
+      outcomes[static_cast<std::size_t>(g)] = relax_free_group(g, per_group);
     }
   });
   if (target_group >= 0 && !settled.empty() &&
