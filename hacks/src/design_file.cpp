@@ -357,11 +357,20 @@ class Reader {
       return nullptr;
     }
     std::vector<Primitive> list;
+    bool failed = false;
     for (const auto& kv : prims) {
       const auto pname = in_.name(kv.first, "primitive name");
-      if (!pname) continue;
-      if (auto p = read_primitive_spec(in_, kv.second, name, *pname)) list.push_back(std::move(*p));
+      auto p = pname ? read_primitive_spec(in_, kv.second, name, *pname) : std::nullopt;
+      if (p) {
+        list.push_back(std::move(*p));
+      } else {
+        failed = true;
+      }
     }
+    // A primitive that could not be read was reported where it is written; without it the
+    // environment is not the one described, and connects to it would only repeat the error
+    // as "has no primitive" (nothing is solved with an error anyway).
+    if (failed) return nullptr;
     return std::make_shared<Part>(make_primitive_part(std::move(list)));
   }
 

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "fabkit/hacks/diagnostic_codes.h"
 #include "test_support.h"
 
@@ -104,6 +106,24 @@ TEST(DesignFile, NaNNegativeAndAbsurdSizes) {
 )");
   EXPECT_TRUE(has_diagnostic(
       far.diagnostics, codes::kInvalidValue, "door pos 1e+12 mm is out of range", 2));
+}
+
+// A primitive that cannot be read is one error, where it is written: connects to it are not
+// reported again as "has no primitive" (the environment has none it could name).
+TEST(DesignFile, AnUnreadablePrimitiveIsReportedOnce) {
+  const Design d = load_text(R"(environment:
+  - {name: door, primitives: {rod: {type: rod, radius: -4, length: 500}}}
+parts:
+  - {name: s, part: DoubleHook}
+connections:
+  - connect: [s.hook1, door.rod]
+)");
+  EXPECT_TRUE(has_diagnostic(
+      d.diagnostics, codes::kInvalidValue, "door.rod: rod radius -4 mm must be positive", 2));
+  const auto errors = std::count_if(d.diagnostics.begin(), d.diagnostics.end(), [](const auto& x) {
+    return x.severity == Severity::kError;
+  });
+  EXPECT_EQ(errors, 1) << d.diagnostics.format();
 }
 
 TEST(DesignFile, BadParametersOfParametricParts) {
