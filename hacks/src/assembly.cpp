@@ -382,12 +382,15 @@ std::optional<Assembly::ConnectPlan> Assembly::plan_connect(const PrimitiveRef& 
   if (diags.has_errors()) return std::nullopt;
   if (a.part == b.part) {
     diags.error(codes::kPairNotAllowed,
-                fmt::format("connect: {}.{} and {}.{} are on the same part; a part cannot be "
-                            "connected to itself",
-                            a.part->type_name,
-                            a.primitive().name,
-                            b.part->type_name,
-                            b.primitive().name),
+                a.index == b.index
+                    ? fmt::format("connect: {}'s {} cannot be connected to itself",
+                                  describe_part(*a.part),
+                                  a.primitive().name)
+                    : fmt::format("connect: {} and {} are both on {}; a part cannot be "
+                                  "connected to itself",
+                                  a.primitive().name,
+                                  b.primitive().name,
+                                  describe_part(*a.part)),
                 where);
     return std::nullopt;
   }

@@ -36,6 +36,28 @@ connections:
                              6));
 }
 
+// A part connected to itself is named as the design names it, not by its type.
+TEST(Verify, APartConnectedToItselfIsNamed) {
+  const Design d = load_text(R"(environment:
+  - {name: door, primitives: {rod: {type: rod, radius: 5, length: 500}}}
+parts:
+  - {name: shook, part: DoubleHook}
+connections:
+  - connect: [shook.hook1, door.rod]
+  - connect: [shook.hook2, shook.hook1]
+  - connect: [door.rod, door.rod]
+)");
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             codes::kPairNotAllowed,
+                             "hook2 and hook1 are both on shook (DoubleHook); a part cannot be "
+                             "connected to itself",
+                             7));
+  EXPECT_TRUE(has_diagnostic(d.diagnostics,
+                             codes::kPairNotAllowed,
+                             "door (Environment)'s rod cannot be connected to itself",
+                             8));
+}
+
 // (b) not both closed.
 TEST(Verify, BothClosed) {
   const Design d = load_text(R"(environment:
