@@ -350,7 +350,11 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     GroupOutcome first = relax_and_judge(group_problem(g), step1.x, opts);
     if (holds(first) || !first.movable || stop->passed()) return first;
     const Problem problem = group_problem(g);
-    const Variables vars = select_variables(assembly, /*physics=*/false, &problem);
+    // What step 2 moves is redrawn; what it holds (a wall hook where it was stuck, clip jaws,
+    // taped joints) stays as built, and a closing that moved any of it is not used.
+    const Variables vars = select_variables(assembly, /*physics=*/true, &problem);
+    std::vector<char> moves(step1.x.size(), 0);
+    for (int v : vars.index) moves[static_cast<std::size_t>(v)] = 1;
     std::vector<std::vector<double>> starts;
     std::vector<std::vector<Mat4>> seen{assembly.part_frames(step1.x)};
     for (int k = 0; k < kOtherClosings && !stop->passed(); ++k) {
@@ -373,6 +377,9 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       v.deadline = options.deadline;
       const ClosureResult closed = close_cycles(assembly, x0, v, g);
       if (!closed.closed) continue;
+      bool held = true;
+      for (std::size_t i = 0; i < x0.size() && held; ++i) held = moves[i] || closed.x[i] == x0[i];
+      if (!held) continue;
       const std::vector<Mat4> frames = assembly.part_frames(closed.x);
       bool again = false;
       for (const std::vector<Mat4>& f : seen) again = again || same_poses(f, frames);

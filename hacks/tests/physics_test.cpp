@@ -517,6 +517,36 @@ TEST(Physics, AMirroredChainRestsAsTheMirrorImageOfTheChain) {
   }
 }
 
+// A mug on an S-hook from an adhesive wall hook: the wall hook stays where it was stuck (step 2
+// does not turn it on the wall), whatever other ways of hanging the rest are tried, and the mug
+// hangs below it. (Other closings that turned the wall hook on the wall were once relaxed and
+// only half kept: the reported mug lay level with the hook, through the wall.)
+TEST(Physics, WhatStep2HoldsStaysAsBuiltWhenOtherClosingsAreTried) {
+  const Design d = load_text(R"(fabkit: hacks/1
+name: wall mug
+environment:
+  - {name: wall, primitives: {surface: {type: surface, width: 600, length: 600}}, frame: {pos: [0, 0, 1000], rot: [90, 0, 0]}}
+parts:
+  - {name: wh, part: WallHook}
+  - {name: s1, part: DoubleHookMedium}
+  - {name: mug, part: Mug}
+connections:
+  - connect: [wh.surface, wall.surface]
+  - connect: [s1.hook1, wh.hook]
+  - connect: [mug.hook, s1.hook2]
+)");
+  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+  const std::vector<Mat4> built = d.assembly.part_frames(d.assembly.values());
+  const SolveResult r = solve(d.assembly);
+  std::map<std::string, Frame> at;
+  for (const SolvedPart& p : r.parts) at[p.name] = p.frame;
+  const Mat4 stuck = at.at("wh").matrix();
+  EXPECT_LT((stuck - built[1]).norm(), 1e-6) << r.summary();
+  EXPECT_LT(at.at("mug").pos.z(), at.at("wh").pos.z() - 50.0) << r.summary();
+  // A sideways wall hook lets the S-hook slide off its open end: said so, not "stable".
+  EXPECT_FALSE(r.stable) << r.summary();
+}
+
 // A chain of N S-hooks hangs plumb from a level rod: every hook right under the first.
 TEST(Physics, AChainOfHooksHangsPlumb) {
   for (int hooks : {1, 2, 3, 5, 8, 12, 16}) {
