@@ -26,6 +26,12 @@ using namespace detail;
 // Other ways a group's cycles may close, tried when it does not hold where its verified
 // configuration relaxes to (solve(), relax_free_group), and the random stream they draw from.
 constexpr int kOtherClosings = 8;
+constexpr int kOtherClosingsAtOnce = 2;
+// Groups with more motions than this are judged where their verified configuration rests: a
+// relaxation from a random closing of a long chain can take minutes (one of a 32-hook span's
+// took 104 s where its first relaxation took 6), and unlike a deadline a size keeps the
+// answer the same on every machine.
+constexpr int kOtherClosingsUpTo = 64;
 constexpr int kOtherClosingStream = 2000;
 
 // The group's potential at x: Σ m·z of its parts' centres of mass (mass units · mm).
@@ -343,9 +349,9 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
   // the connects happened to reach. Where it does not hold there (a hook slides off, parts
   // pass through each other), "falls apart" would be the verdict on that one way of hanging
   // it: other ways are tried (every unbounded angle half a turn round, then seeded random
-  // closings), all of them. A design built from its other end or mirrored then gets the same
-  // verdict. Where the first way holds nothing else is tried: a chain with several rest states
-  // rests in the one its verified configuration leads to (docs/hacks.md).
+  // closings) until one holds. A design built from its other end or mirrored then gets the
+  // same verdict. Where the first way holds nothing else is tried: a chain with several rest
+  // states rests in the one its verified configuration leads to (docs/hacks.md).
   auto relax_free_group = [&](int g, const SolveOptions& opts) {
     GroupOutcome first = relax_and_judge(group_problem(g), step1.x, opts);
     if (holds(first) || !first.movable || stop->passed()) return first;
@@ -353,11 +359,12 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     // What step 2 moves is redrawn; what it holds (a wall hook where it was stuck, clip jaws,
     // taped joints) stays as built, and a closing that moved any of it is not used.
     const Variables vars = select_variables(assembly, /*physics=*/true, &problem);
+    if (static_cast<int>(vars.index.size()) > kOtherClosingsUpTo) return first;
     std::vector<char> moves(step1.x.size(), 0);
     for (int v : vars.index) moves[static_cast<std::size_t>(v)] = 1;
-    std::vector<std::vector<double>> starts;
     std::vector<std::vector<Mat4>> seen{assembly.part_frames(step1.x)};
-    for (int k = 0; k < kOtherClosings && !stop->passed(); ++k) {
+    // Closing k: every unbounded angle half a turn round (k = 0), or seeded random values.
+    auto closing = [&](int k) -> std::optional<std::vector<double>> {
       std::vector<double> x0 = step1.x;
       for (int v : vars.index) {
         const ParamSpec& s = assembly.parameters()[static_cast<std::size_t>(v)].spec;
@@ -376,35 +383,46 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       v.seed = options.seed;
       v.deadline = options.deadline;
       const ClosureResult closed = close_cycles(assembly, x0, v, g);
-      if (!closed.closed) continue;
-      bool held = true;
-      for (std::size_t i = 0; i < x0.size() && held; ++i) held = moves[i] || closed.x[i] == x0[i];
-      if (!held) continue;
-      const std::vector<Mat4> frames = assembly.part_frames(closed.x);
-      bool again = false;
-      for (const std::vector<Mat4>& f : seen) again = again || same_poses(f, frames);
-      if (again) continue;
-      seen.push_back(frames);
-      starts.push_back(closed.x);
-    }
-    std::vector<std::optional<GroupOutcome>> tried(starts.size());
-    const SolveOptions each = sharing(opts, static_cast<int>(starts.size()));
-    run_in_parallel(static_cast<int>(starts.size()), opts.threads, [&](int k) {
-      if (!stop->passed()) {
-        tried[static_cast<std::size_t>(k)] =
-            relax_and_judge(group_problem(g), starts[static_cast<std::size_t>(k)], each);
+      if (!closed.closed) return std::nullopt;
+      for (std::size_t i = 0; i < x0.size(); ++i) {
+        if (!moves[i] && closed.x[i] != x0[i]) return std::nullopt;
       }
-    });
+      const std::vector<Mat4> frames = assembly.part_frames(closed.x);
+      for (const std::vector<Mat4>& f : seen) {
+        if (same_poses(f, frames)) return std::nullopt;
+      }
+      seen.push_back(frames);
+      return closed.x;
+    };
     // What holds wins, the lowest potential among what holds; the verified configuration's
-    // outcome wins ties, and stands (with what it says went wrong) when nothing holds.
+    // outcome wins ties, and stands (with what it says went wrong) when nothing holds. The
+    // closings are relaxed kOtherClosingsAtOnce at a time (whatever the thread count, so the
+    // answer does not depend on it), and the first batch in which one holds ends the search:
+    // a long chain's relaxation from a random closing can take seconds.
     GroupOutcome best = std::move(first);
     double best_energy = group_energy(problem, best.x);
-    for (std::optional<GroupOutcome>& o : tried) {
-      if (!o || !holds(*o)) continue;
-      const double energy = group_energy(problem, o->x);
-      if (!holds(best) || energy < best_energy - 1e-9 * std::max(1.0, std::abs(best_energy))) {
-        best = std::move(*o);
-        best_energy = energy;
+    int k = 0;
+    while (k < kOtherClosings && !holds(best) && !stop->passed()) {
+      std::vector<std::vector<double>> batch;
+      while (static_cast<int>(batch.size()) < kOtherClosingsAtOnce && k < kOtherClosings &&
+             !stop->passed()) {
+        if (std::optional<std::vector<double>> x = closing(k++)) batch.push_back(std::move(*x));
+      }
+      std::vector<std::optional<GroupOutcome>> tried(batch.size());
+      const SolveOptions each = sharing(opts, static_cast<int>(batch.size()));
+      run_in_parallel(static_cast<int>(batch.size()), opts.threads, [&](int i) {
+        if (!stop->passed()) {
+          tried[static_cast<std::size_t>(i)] =
+              relax_and_judge(group_problem(g), batch[static_cast<std::size_t>(i)], each);
+        }
+      });
+      for (std::optional<GroupOutcome>& o : tried) {
+        if (!o || !holds(*o)) continue;
+        const double energy = group_energy(problem, o->x);
+        if (!holds(best) || energy < best_energy - 1e-9 * std::max(1.0, std::abs(best_energy))) {
+          best = std::move(*o);
+          best_energy = energy;
+        }
       }
     }
     return best;
