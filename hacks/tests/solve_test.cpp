@@ -475,6 +475,24 @@ TEST(Solve, TheAnswerDoesNotDependOnTheThreadCount) {
                            "paper_towel_holder",
                            "diaper_caddy"})
     designs.emplace_back(name, load_example(name));
+  {
+    // Ten medium S-hooks between two rods that do not hold where the verified configuration
+    // rests: other closings are relaxed, two at a time whatever the thread count.
+    std::string t =
+        "fabkit: hacks/1\nname: medium chain\nenvironment:\n"
+        "  - {name: left, primitives: {rod: {type: rod, radius: 2.5, length: 300}}, frame: {pos: "
+        "[127.13401072464715, 0, 500], rot: [90, 0, 0]}}\n"
+        "  - {name: right, primitives: {rod: {type: rod, radius: 2.5, length: 300}}, frame: {pos: "
+        "[-127.13401072464715, 0, 442.687220681513], rot: [90, 0, -180]}}\nparts:\n";
+    for (int i = 1; i <= 10; ++i)
+      t += fmt::format("  - {{name: s{}, part: DoubleHookMedium}}\n", i);
+    t += "connections:\n  - {connect: [s10.hook2, right.rod], alignment: flip}\n";
+    for (int i = 9; i >= 1; --i)
+      t += fmt::format("  - connect: [s{}.hook2, s{}.hook1]\n", i, i + 1);
+    t += "  - connect: [s1.hook1, left.rod]\n";
+    designs.emplace_back("mirrored medium chain",
+                         load_design_text(t, "medium.yaml", PartsLibrary::builtin()));
+  }
   // A 12-hook chain with its mug as the target (48 variables: step 1's guided start runs
   // beside the verified one): a goal beside where the mug hangs, which nothing reaches, and
   // one above it, which the verified start reaches (the guided start is called off).
