@@ -394,11 +394,11 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       seen.push_back(frames);
       return closed.x;
     };
-    // What holds wins, the lowest potential among what holds; the verified configuration's
-    // outcome wins ties, and stands (with what it says went wrong) when nothing holds. The
-    // closings are relaxed kOtherClosingsAtOnce at a time (whatever the thread count, so the
-    // answer does not depend on it), and the first batch in which one holds ends the search:
-    // a long chain's relaxation from a random closing can take seconds.
+    // What holds wins, the lowest potential among what holds (the earlier closing on a tie);
+    // the verified configuration's outcome stands, with what it says went wrong, when nothing
+    // holds. The closings are relaxed kOtherClosingsAtOnce at a time (whatever the thread count, so
+    // the answer does not depend on it), and the first batch in which one holds ends the search: a
+    // long chain's relaxation from a random closing can take seconds.
     GroupOutcome best = std::move(first);
     double best_energy = group_energy(problem, best.x);
     int k = 0;
