@@ -11,10 +11,8 @@
 #include <cmath>
 #include <optional>
 
-#include "cycle_closure.h"
 #include "fabkit/core/parallel.h"
 #include "fabkit/hacks/diagnostic_codes.h"
-#include "random.h"
 #include "steps.h"
 
 namespace fabkit::hacks {
@@ -34,7 +32,8 @@ constexpr int kOtherClosingsAtOnce = 2;
 constexpr int kOtherClosingsUpTo = 64;
 constexpr int kOtherClosingStream = 2000;
 
-// The group's potential at x: Σ m·z of its parts' centres of mass (mass units · mm).
+// The potential at x of the parts p weighs (a group's, or the whole assembly's): Σ m·z of
+// their centres of mass (mass units · mm).
 double group_energy(const Problem& p, const std::vector<double>& x) {
   const std::vector<Mat4> frames = p.assembly->part_frames(x);
   double energy = 0;
@@ -360,39 +359,26 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     // taped joints) stays as built, and a closing that moved any of it is not used.
     const Variables vars = select_variables(assembly, /*physics=*/true, &problem);
     if (static_cast<int>(vars.index.size()) > kOtherClosingsUpTo) return first;
-    std::vector<char> moves(step1.x.size(), 0);
-    for (int v : vars.index) moves[static_cast<std::size_t>(v)] = 1;
     std::vector<std::vector<Mat4>> seen{assembly.part_frames(step1.x)};
-    // Closing k: every unbounded angle half a turn round (k = 0), or seeded random values.
+    // Closing k: every unbounded angle half a turn round (k = 0), or seeded random values
+    // (odd k only the unbounded angles), closed again as step 2's unfolding closes its redraws.
     auto closing = [&](int k) -> std::optional<std::vector<double>> {
-      std::vector<double> x0 = step1.x;
-      for (int v : vars.index) {
-        const ParamSpec& s = assembly.parameters()[static_cast<std::size_t>(v)].spec;
-        double& value = x0[static_cast<std::size_t>(v)];
-        if (k == 0) {
-          if (s.tag == ParamTag::kUnbounded) value += 180.0;
-        } else if (k % 2 == 0 || s.tag == ParamTag::kUnbounded) {
-          value = s.lo +
-                  keyed_uniform(options.seed, kOtherClosingStream + k, assembly.parameter_key(v)) *
-                      (s.hi - s.lo);
+      std::vector<double> start = step1.x;
+      if (k == 0) {
+        for (int v : vars.index) {
+          const auto i = static_cast<std::size_t>(v);
+          if (assembly.parameters()[i].spec.tag == ParamTag::kUnbounded) start[i] += 180.0;
         }
+      } else {
+        draw_keyed(assembly, vars.index, options.seed, kOtherClosingStream + k, k % 2 == 1, start);
       }
-      VerifyOptions v;
-      v.restarts = 1;
-      v.stretch_start = false;
-      v.seed = options.seed;
-      v.deadline = options.deadline;
-      const ClosureResult closed = close_cycles(assembly, x0, v, g);
-      if (!closed.closed) return std::nullopt;
-      for (std::size_t i = 0; i < x0.size(); ++i) {
-        if (!moves[i] && closed.x[i] != x0[i]) return std::nullopt;
-      }
-      const std::vector<Mat4> frames = assembly.part_frames(closed.x);
+      if (!close_again(problem, vars, start, opts)) return std::nullopt;
+      const std::vector<Mat4> frames = assembly.part_frames(start);
       for (const std::vector<Mat4>& f : seen) {
         if (same_poses(f, frames)) return std::nullopt;
       }
       seen.push_back(frames);
-      return closed.x;
+      return start;
     };
     // What holds wins, the lowest potential among what holds (the earlier closing on a tie);
     // the verified configuration's outcome stands, with what it says went wrong, when nothing
@@ -406,7 +392,9 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       std::vector<std::vector<double>> batch;
       while (static_cast<int>(batch.size()) < kOtherClosingsAtOnce && k < kOtherClosings &&
              !stop->passed()) {
-        if (std::optional<std::vector<double>> x = closing(k++)) batch.push_back(std::move(*x));
+        if (std::optional<std::vector<double>> closed = closing(k++)) {
+          batch.push_back(std::move(*closed));
+        }
       }
       std::vector<std::optional<GroupOutcome>> tried(batch.size());
       const SolveOptions each = sharing(opts, static_cast<int>(batch.size()));
@@ -559,12 +547,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
                       kPenetrationToleranceMm));
     }
   }
-  double energy = 0;
-  for (std::size_t i = 0; i < frames.size(); ++i) {
-    energy += whole.masses[i] * (frames[i].topLeftCorner<3, 3>() * whole.coms[i] +
-                                 frames[i].topRightCorner<3, 1>())[2];
-  }
-  result.energy = energy;
+  result.energy = group_energy(whole, x);
   if (!converged && result.termination == Termination::kConverged) {
     result.termination = Termination::kMaxIterations;
   }

@@ -85,12 +85,7 @@ std::optional<StepResult> fit_from_start(
     // Even starts draw every parameter; odd ones only the unbounded angles (how a ring is
     // threaded, which way a part spins about a rod), keeping the rest as verified: the
     // choices a local fit cannot change by itself.
-    for (int v : vars.index) {
-      const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
-      if (start % 2 == 1 && s.tag != ParamTag::kUnbounded) continue;
-      x0[static_cast<std::size_t>(v)] =
-          s.lo + keyed_uniform(o.seed, start, a.parameter_key(v)) * (s.hi - s.lo);
-    }
+    draw_keyed(a, vars.index, o.seed, start, /*unbounded_only=*/start % 2 == 1, x0);
   }
   if (past_deadline(p, o)) return std::nullopt;
   AssemblySolver solver(p, vars, x0, Objective::kTarget, o.deadline);

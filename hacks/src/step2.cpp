@@ -125,6 +125,42 @@ bool watch_more_contacts(Problem& p, const std::vector<double>& x) {
   return grown;
 }
 
+bool close_again(const Problem& p,
+                 const Variables& vars,
+                 std::vector<double>& x,
+                 const SolveOptions& o) {
+  AssemblySolver closer(p, vars, x, Objective::kEnergy, o.deadline);
+  if (closer.close(x, 100)) return true;
+  VerifyOptions closing;
+  closing.restarts = 1;
+  closing.stretch_start = false;
+  closing.seed = o.seed;
+  closing.deadline = o.deadline;
+  const ClosureResult closed = close_cycles(*p.assembly, x, closing, p.group);
+  if (!closed.closed) return false;
+  std::vector<char> moves(x.size(), 0);
+  for (int index : vars.index) moves[static_cast<std::size_t>(index)] = 1;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!moves[i] && closed.x[i] != x[i]) return false;
+  }
+  x = closed.x;
+  return true;
+}
+
+void draw_keyed(const Assembly& a,
+                const std::vector<int>& vars,
+                std::uint64_t seed,
+                int stream,
+                bool unbounded_only,
+                std::vector<double>& x) {
+  for (int v : vars) {
+    const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
+    if (unbounded_only && s.tag != ParamTag::kUnbounded) continue;
+    x[static_cast<std::size_t>(v)] =
+        s.lo + keyed_uniform(seed, stream, a.parameter_key(v)) * (s.hi - s.lo);
+  }
+}
+
 StepResult run_step2(Problem& p,
                      const Variables& vars,
                      const std::vector<double>& x1,
@@ -193,24 +229,7 @@ StepResult run_step2(Problem& p,
         --*q.unfold_tries;
       }
       ++misses;  // until the try is kept
-      // Closed again by step 2's own variables (what it holds — fixed joints, clip jaws —
-      // stays as it is); the verification's search, which may move anything of the group,
-      // only when that fails, and its closure only if it moved nothing step 2 holds.
-      AssemblySolver closer(q, vars, x, Objective::kEnergy, o.deadline);
-      if (!closer.close(x, 100)) {
-        VerifyOptions closing;
-        closing.restarts = 1;
-        closing.stretch_start = false;
-        closing.seed = o.seed;
-        closing.deadline = o.deadline;
-        const ClosureResult closed = close_cycles(a, x, closing, q.group);
-        bool held = closed.closed;
-        for (std::size_t i = 0; i < x.size() && held; ++i) {
-          held = is_variable[i] || closed.x[i] == x[i];
-        }
-        if (!held) continue;
-        x = closed.x;
-      }
+      if (!close_again(q, vars, x, o)) continue;
       StepResult tried = run(q, x);
       // A long slack chain can use up a run's iterations short of rest (joints at their
       // bounds let go and caught again keep the steps short): a second run goes on from there.

@@ -256,6 +256,26 @@ StepResult avoiding_contacts(Problem& p,
   });
 }
 
+/// Closes p's cycles again from x (a start with some parameters redrawn) by step 2's own
+/// variables `vars`, so that what step 2 holds (fixed joints, clip jaws, a wall hook where it
+/// was stuck) stays as it is; the verification's search, which may move anything of the group,
+/// only when that fails, and its closure only if it moved nothing step 2 holds. False when
+/// neither closes them; x is then unchanged.
+bool close_again(const Problem& p,
+                 const Variables& vars,
+                 std::vector<double>& x,
+                 const SolveOptions& o);
+
+/// Seeded values keyed by the parameters' names (the same for a parameter whatever its place
+/// in the vector or the order of the connects) for the parameters `vars` of x, uniform within
+/// their bounds: all of them, or with `unbounded_only` only the unbounded angles.
+void draw_keyed(const Assembly& a,
+                const std::vector<int>& vars,
+                std::uint64_t seed,
+                int stream,
+                bool unbounded_only,
+                std::vector<double>& x);
+
 /// Step 2: relaxation under gravity from step 1's configuration. With a contact model, pairs
 /// that come near during the relaxation are watched from then on and it is repeated.
 StepResult run_step2(Problem& p,
