@@ -5,9 +5,7 @@ set(scenes)
 foreach(example bird_feeder toothbrush_holder basket_between_rods reading_nook)
   execute_process(COMMAND ${FABKIT} solve ${SOURCE_DIR}/examples/hacks/${example}.yaml -q -o ${out}/${example}
                   RESULT_VARIABLE code OUTPUT_VARIABLE text ERROR_VARIABLE text)
-  # The reading nook is not yet at rest with contacts (docs/gallery.md): exit 3 or 7, files
-  # written all the same.
-  if(NOT code EQUAL 0 AND NOT (example STREQUAL "reading_nook" AND (code EQUAL 3 OR code EQUAL 7)))
+  if(NOT code EQUAL 0)
     message(FATAL_ERROR "fabkit solve ${example}: exit ${code}\n${text}")
   endif()
   list(APPEND scenes ${out}/${example}/scene.glb)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "constraints.h"
@@ -82,6 +83,7 @@ Assembly Assembly::shifted(const Vec3& shift) const {
     n.placement = Rigid<double>::from_matrix(n.frame.matrix());
   }
   if (out.target_) out.target_->frame.pos += shift;
+  for (AddCall& a : out.adds_) a.frame.pos += shift;
   return out;
 }
 
@@ -180,6 +182,7 @@ ConnectReport Assembly::add(std::shared_ptr<Part> environment,
   const PartId id = insert_part(environment, true, frame);
   report.description = fmt::format("add {} at {}", label(id), frame.to_string());
   report.accepted = true;
+  adds_.push_back({std::move(environment), std::nullopt, frame, where});
   return report;
 }
 
@@ -248,6 +251,7 @@ ConnectReport Assembly::add(const PrimitiveRef& primitive,
   n.part = std::move(copy);
   report.description = fmt::format("{} at {}", who, frame.to_string());
   report.accepted = true;
+  adds_.push_back({primitive.part, primitive, frame, where});
   return report;
 }
 
@@ -680,8 +684,119 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
   report.milliseconds = elapsed_ms(started);
   if (!ok) return report;
   report.accepted = true;
+  trial.connects_made_.push_back({a, b, options});
   *this = std::move(trial);
   return report;
+}
+
+std::vector<std::size_t> Assembly::canonical_connect_order() const {
+  // Each placed part's key: its environment's rank among the adds, then for every connection
+  // down to it the primitive it hangs from and its own type and primitive. Primitives by
+  // index (an environment's loose primitives are named by the design).
+  std::map<const Part*, std::string> key;
+  for (const AddCall& a : adds_) {
+    if (!key.count(a.part.get())) key.emplace(a.part.get(), fmt::format("E{}", key.size()));
+  }
+  auto side = [&](const PrimitiveRef& r) {
+    return fmt::format("{}>{}", key.at(r.part.get()), r.index.value);
+  };
+  // What a connect asks for besides its two primitives.
+  auto how = [&](std::size_t k) {
+    const ConnectOptions& o = connects_made_[k].options;
+    return fmt::format(
+        "{}{}", o.alignment == AlignmentChoice::kFlip ? "f" : "", o.fixed ? "x" : "");
+  };
+  // What else a part coming in connects to (its primitive, the other side's type and
+  // primitive): two eye hooks on one rod differ by what each holds below them.
+  auto holds = [&](const Part* part, std::size_t except) {
+    std::vector<std::string> others;
+    for (std::size_t k = 0; k < connects_made_.size(); ++k) {
+      const ConnectCall& c = connects_made_[k];
+      if (k == except || (c.a.part.get() != part && c.b.part.get() != part)) continue;
+      const PrimitiveRef& own = c.a.part.get() == part ? c.a : c.b;
+      const PrimitiveRef& other = c.a.part.get() == part ? c.b : c.a;
+      others.push_back(fmt::format(
+          "{}-{}.{}{}", own.index.value, other.part->type_name, other.index.value, how(k)));
+    }
+    std::sort(others.begin(), others.end());
+    std::string out;
+    for (const std::string& o : others) out += o + ",";
+    return out;
+  };
+  auto coming_in = [&](const PrimitiveRef& placed, const PrimitiveRef& fresh, std::size_t k) {
+    return fmt::format("{}|{}.{}{}[{}]",
+                       side(placed),
+                       fresh.part->type_name,
+                       fresh.index.value,
+                       how(k),
+                       holds(fresh.part.get(), k));
+  };
+  std::vector<std::size_t> order;
+  std::vector<char> taken(connects_made_.size(), 0);
+  while (order.size() < connects_made_.size()) {
+    std::vector<std::pair<std::string, std::size_t>> ready;
+    for (std::size_t k = 0; k < connects_made_.size(); ++k) {
+      if (taken[k]) continue;
+      const ConnectCall& c = connects_made_[k];
+      const bool a_in = key.count(c.a.part.get()) > 0;
+      const bool b_in = key.count(c.b.part.get()) > 0;
+      if (a_in && b_in) {
+        std::string u = side(c.a);
+        std::string v = side(c.b);
+        if (v < u) std::swap(u, v);
+        ready.emplace_back(u + "~" + v + how(k), k);
+      } else if (a_in || b_in) {
+        ready.emplace_back(a_in ? coming_in(c.a, c.b, k) : coming_in(c.b, c.a, k), k);
+      }
+    }
+    if (ready.empty()) break;  // not made from the environments outwards: cannot happen
+    // Connects nothing above tells apart (two identical chains hung side by side from one
+    // rod) are interchangeable but still decide the solver's path: they go by the names
+    // their parts were given (a design file's), and without names in the order they were
+    // made.
+    auto named = [&](std::size_t k) {
+      const ConnectCall& c = connects_made_[k];
+      std::string u = fmt::format("{}.{}", c.a.part->instance_name, c.a.index.value);
+      std::string v = fmt::format("{}.{}", c.b.part->instance_name, c.b.index.value);
+      if (v < u) std::swap(u, v);
+      return u + "|" + v;
+    };
+    std::stable_sort(ready.begin(), ready.end(), [&](const auto& u, const auto& v) {
+      if (u.first != v.first) return u.first < v.first;
+      return named(u.second) < named(v.second);
+    });
+    for (const auto& [k_key, k] : ready) {
+      taken[k] = 1;
+      order.push_back(k);
+      const ConnectCall& c = connects_made_[k];
+      for (const PrimitiveRef* r : {&c.a, &c.b}) key.emplace(r->part.get(), k_key);
+    }
+  }
+  return order;
+}
+
+Assembly Assembly::in_canonical_order(
+    std::optional<std::chrono::steady_clock::time_point> deadline) const {
+  const std::vector<std::size_t> order = canonical_connect_order();
+  bool as_made = order.size() == connects_made_.size();
+  for (std::size_t k = 0; as_made && k < order.size(); ++k) as_made = order[k] == k;
+  if (as_made || order.size() != connects_made_.size()) return *this;
+  Assembly out;
+  for (const AddCall& a : adds_) {
+    const ConnectReport r =
+        a.primitive ? out.add(*a.primitive, a.frame, a.where) : out.add(a.part, a.frame, a.where);
+    if (!r.accepted) return *this;
+  }
+  for (std::size_t k : order) {
+    ConnectOptions o = connects_made_[k].options;
+    o.verify.deadline = deadline;  // the one the connect was made under may be long past
+    if (!out.connect(connects_made_[k].a, connects_made_[k].b, o).accepted) return *this;
+  }
+  if (target_ &&
+      out.end_with(PrimitiveRef(target_->part, target_->primitive), target_->frame).has_errors()) {
+    return *this;
+  }
+  return out;
 }
 
 std::vector<ConnectionId> Assembly::cycle_connections() const {

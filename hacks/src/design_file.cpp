@@ -233,6 +233,11 @@ class Reader {
       }
       design.steps.push_back(std::move(step));
     }
+    // Solved in the canonical order of its connects (Assembly::in_canonical_order): the
+    // file's order still decides the verification's messages (design.steps).
+    if (!stopped && !diags_.has_errors()) {
+      design.assembly = design.assembly.in_canonical_order(options_.verify.deadline);
+    }
     for (const auto& [name, part] : design.parts) {
       if (stopped) break;  // unverified connects: "never connected" would be wrong
       if (!design.assembly.find(part.get()) && !missing.count(part.get())) {

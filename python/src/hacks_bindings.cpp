@@ -175,7 +175,8 @@ struct Solved {
 
 Solved solve_one(const Assembly& a, const SolveOptions& options = {}) {
   Solved s;
-  s.assembly = std::make_shared<const Assembly>(a);
+  // As design files are: in the canonical order of its connects (Assembly::in_canonical_order).
+  s.assembly = std::make_shared<const Assembly>(a.in_canonical_order(options.deadline));
   s.result = solve(*s.assembly, options);
   return s;
 }

@@ -242,8 +242,7 @@ def test_time_limits_stop_every_kit_with_the_iterations_done():
     with pytest.raises(fabkit.TimeLimitError, match="stopped at the deadline after"):
         s.build(time_limit=0.05, engrave=False)
     assert time.monotonic() - started < 30
-    # Generous limits change nothing (the reading nook is not yet at rest with contacts,
-    # docs/gallery.md: the same verdict and pose either way).
+    # Generous limits change nothing: the same verdict and pose either way.
     unlimited = design.assembly.solve()
     limited = design.assembly.solve(time_limit=600)
     assert limited.stable == unlimited.stable

@@ -231,6 +231,23 @@ class Assembly {
   /// Connections involving a primitive.
   std::vector<ConnectionId> connections_of(PartId id, PrimitiveId primitive) const;
 
+  /// The order of connects says nothing physical, but it decides the model a solve works on
+  /// (which connection closes each cycle, the configuration the verification closes them in)
+  /// and so which of several rest states it reaches. This is the same design with its
+  /// connects made again in one canonical order, whatever order they were made in: outwards
+  /// from the environments, level by level (a connect is ready once one of its sides is in),
+  /// and within a level by what the connect joins — each side by its part's type, primitive
+  /// and the path from its environment down to it (environments by the order they were
+  /// added), never by a name a program or file chose; connects that cannot be told apart that
+  /// way keep the order they were made in. Returns a copy of this assembly when it is in that
+  /// order already, and also when a connect does not verify in the canonical order (a closure
+  /// search that misses): then the order they were made in stands. `deadline` bounds the
+  /// verification of the connects made again.
+  Assembly in_canonical_order(
+      std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
+  /// The canonical order (above) of the connects made so far, as indices into connections().
+  std::vector<std::size_t> canonical_connect_order() const;
+
  private:
   // connect(), step by step: which side is in, the rules, recording, the cycle checks.
   struct ConnectPlan {
@@ -276,6 +293,20 @@ class Assembly {
   std::vector<ParamInfo> params_;
   std::vector<double> values_;
   std::optional<Target> target_;
+  // What was added and connected, as it was asked for, for in_canonical_order() to make
+  // again: every accepted add(), and every accepted connect() (the i-th is connection i).
+  struct AddCall {
+    std::shared_ptr<Part> part;
+    std::optional<PrimitiveRef> primitive;  ///< add(primitive, frame)
+    Frame frame;
+    SourceLocation where;
+  };
+  struct ConnectCall {
+    PrimitiveRef a, b;
+    ConnectOptions options;
+  };
+  std::vector<AddCall> adds_;
+  std::vector<ConnectCall> connects_made_;
 };
 
 // ---- templates ---------------------------------------------------------------------------
