@@ -689,7 +689,7 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
   return report;
 }
 
-std::vector<std::size_t> Assembly::canonical_connect_order() const {
+std::vector<Assembly::CanonicalConnect> Assembly::canonical_connect_order() const {
   // Each placed part's key: its environment's rank among the adds, then for every connection
   // down to it the primitive it hangs from and its own type and primitive. Primitives by
   // index (an environment's loose primitives are named by the design).
@@ -731,7 +731,7 @@ std::vector<std::size_t> Assembly::canonical_connect_order() const {
                        how(k),
                        holds(fresh.part.get(), k));
   };
-  std::vector<std::size_t> order;
+  std::vector<CanonicalConnect> order;
   std::vector<char> taken(connects_made_.size(), 0);
   while (order.size() < connects_made_.size()) {
     std::vector<std::pair<std::string, std::size_t>> ready;
@@ -767,8 +767,17 @@ std::vector<std::size_t> Assembly::canonical_connect_order() const {
     });
     for (const auto& [k_key, k] : ready) {
       taken[k] = 1;
-      order.push_back(k);
       const ConnectCall& c = connects_made_[k];
+      // A connect that closes a cycle (perhaps only now, its other side having come in
+      // earlier in this level) with the side of the larger key first: which side comes first
+      // is a convention (it decides how the closure is parametrised, not what it means);
+      // with this one every gallery design rests where its file's order put it (the other
+      // moved the soap bottle holder by 0.13 mm and left the reading nook not at rest). One
+      // that brings a part in stays as written: connect() takes the side already in as the
+      // parent whichever it is.
+      const bool closes = key.count(c.a.part.get()) > 0 && key.count(c.b.part.get()) > 0;
+      const bool swapped = closes && side(c.a) < side(c.b);
+      order.push_back({k, swapped});
       for (const PrimitiveRef* r : {&c.a, &c.b}) key.emplace(r->part.get(), k_key);
     }
   }
@@ -777,9 +786,11 @@ std::vector<std::size_t> Assembly::canonical_connect_order() const {
 
 Assembly Assembly::in_canonical_order(
     std::optional<std::chrono::steady_clock::time_point> deadline) const {
-  const std::vector<std::size_t> order = canonical_connect_order();
+  const std::vector<CanonicalConnect> order = canonical_connect_order();
   bool as_made = order.size() == connects_made_.size();
-  for (std::size_t k = 0; as_made && k < order.size(); ++k) as_made = order[k] == k;
+  for (std::size_t k = 0; as_made && k < order.size(); ++k) {
+    as_made = order[k].index == k && !order[k].swapped;
+  }
   if (as_made || order.size() != connects_made_.size()) return *this;
   Assembly out;
   for (const AddCall& a : adds_) {
@@ -787,10 +798,13 @@ Assembly Assembly::in_canonical_order(
         a.primitive ? out.add(*a.primitive, a.frame, a.where) : out.add(a.part, a.frame, a.where);
     if (!r.accepted) return *this;
   }
-  for (std::size_t k : order) {
-    ConnectOptions o = connects_made_[k].options;
+  for (const CanonicalConnect& k : order) {
+    const ConnectCall& c = connects_made_[k.index];
+    ConnectOptions o = c.options;
     o.verify.deadline = deadline;  // the one the connect was made under may be long past
-    if (!out.connect(connects_made_[k].a, connects_made_[k].b, o).accepted) return *this;
+    const bool made =
+        k.swapped ? out.connect(c.b, c.a, o).accepted : out.connect(c.a, c.b, o).accepted;
+    if (!made) return *this;
   }
   if (target_ &&
       out.end_with(PrimitiveRef(target_->part, target_->primitive), target_->frame).has_errors()) {

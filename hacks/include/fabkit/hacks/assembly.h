@@ -245,8 +245,16 @@ class Assembly {
   /// verification of the connects made again.
   Assembly in_canonical_order(
       std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
-  /// The canonical order (above) of the connects made so far, as indices into connections().
-  std::vector<std::size_t> canonical_connect_order() const;
+  /// One connect of the canonical order: which (an index into connections()), and whether
+  /// its two sides are given the other way round from how they were made (a connect that
+  /// closes a cycle is made with its sides in a canonical order too: which comes first
+  /// decides how the closure is parametrised, not what it means).
+  struct CanonicalConnect {
+    std::size_t index = 0;
+    bool swapped = false;
+  };
+  /// The canonical order (above) of the connects made so far.
+  std::vector<CanonicalConnect> canonical_connect_order() const;
 
  private:
   // connect(), step by step: which side is in, the rules, recording, the cycle checks.
