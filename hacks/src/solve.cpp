@@ -23,7 +23,7 @@ using namespace detail;
 
 // Other ways a group's cycles may close, tried when it does not hold where its verified
 // configuration relaxes to (solve(), relax_free_group), and the random stream they draw from.
-constexpr int kOtherClosings = 8;
+constexpr int kOtherClosings = 24;
 constexpr int kOtherClosingsAtOnce = 2;
 // Groups with more motions than this are judged where their verified configuration rests: a
 // relaxation from a random closing of a long chain can take minutes (one of a 32-hook span's
