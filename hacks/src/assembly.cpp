@@ -690,12 +690,17 @@ ConnectReport Assembly::connect(const PrimitiveRef& a,
 }
 
 std::vector<Assembly::CanonicalConnect> Assembly::canonical_connect_order() const {
-  // Each placed part's key: its environment's rank among the adds, then for every connection
-  // down to it the primitive it hangs from and its own type and primitive. Primitives by
-  // index (an environment's loose primitives are named by the design).
+  // Each placed part's key: its environment's, then for every connection down to it the
+  // primitive it hangs from and its own type and primitive. Primitives by index (an
+  // environment's loose primitives are named by the design).
   std::map<const Part*, std::string> key;
   for (const AddCall& a : adds_) {
-    if (!key.count(a.part.get())) key.emplace(a.part.get(), fmt::format("E{}", key.size()));
+    if (key.count(a.part.get())) continue;
+    // An environment by what it is (its type and its primitives' types), not by when it was
+    // added: two rods a chain spans between tie here and go by their names below.
+    std::string types;
+    for (const Primitive& p : a.part->primitives) types += fmt::format("{},", to_string(p.type));
+    key.emplace(a.part.get(), fmt::format("E{}{{{}}}", a.part->type_name, types));
   }
   auto side = [&](const PrimitiveRef& r) {
     return fmt::format("{}>{}", key.at(r.part.get()), r.index.value);

@@ -494,6 +494,39 @@ TEST(Physics, AnUnevenChainRestsTheSameFromEitherEnd) {
   }
 }
 
+// The order the environments are listed in is not physical either: a chain between two rods
+// at different heights, its rods listed the other way round, is solved as the same model and
+// rests exactly where it did.
+TEST(Physics, TheOrderOfTheEnvironmentsDoesNotMatter) {
+  const std::string yaml = chain_between_rods(11, true, Vec3(-200, 0, 500), Vec3(200, 0, 420));
+  YAML::Node root = YAML::Load(yaml);
+  YAML::Node swapped = YAML::Clone(root);
+  YAML::Node envs(YAML::NodeType::Sequence);
+  envs.push_back(YAML::Clone(root["environment"][1]));
+  envs.push_back(YAML::Clone(root["environment"][0]));
+  swapped["environment"] = envs;
+  // The same model: the connections made in the same order (the middle hook, s6, comes in
+  // through the same neighbour and the cycle closes at the other).
+  auto made = [](const Design& d) {
+    std::vector<std::string> out;
+    for (const Connection& c : d.assembly.connections()) {
+      out.push_back(d.assembly.label(c.first.part, c.first.primitive) + " " +
+                    d.assembly.label(c.second.part, c.second.primitive));
+    }
+    return out;
+  };
+  EXPECT_EQ(made(load_text(yaml)), made(load_text(emit(swapped))));
+  const Outcome a = solve_text(yaml);
+  const Outcome b = solve_text(emit(swapped));
+  EXPECT_TRUE(a.stable) << a.summary;
+  EXPECT_EQ(a.stable, b.stable) << b.summary;
+  ASSERT_EQ(a.by_name.size(), b.by_name.size());
+  for (const auto& [part, at] : a.by_name) {
+    ASSERT_TRUE(b.by_name.count(part)) << part;
+    EXPECT_LT((at - b.by_name.at(part)).norm(), 1e-6) << part;
+  }
+}
+
 // Twelve to fourteen S-hooks are longer than the 400 mm between the rods: the cycle search
 // closes such a slack chain with links folded back over their neighbours (through each other,
 // 4 mm deep), a rest state of the joints alone that no local step undoes. What a real chain

@@ -237,9 +237,11 @@ class Assembly {
   /// connects made again in one canonical order, whatever order they were made in: outwards
   /// from the environments, level by level (a connect is ready once one of its sides is in),
   /// and within a level by what the connect joins — each side by its part's type, primitive
-  /// and the path from its environment down to it (environments by the order they were
-  /// added), never by a name a program or file chose; connects that cannot be told apart that
-  /// way keep the order they were made in. Returns a copy of this assembly when it is in that
+  /// and the path from its environment down to it (environments by their type and
+  /// primitives), with what the part coming in holds further down; connects that cannot be
+  /// told apart that way go by the names their parts were given, and without names keep the
+  /// order they were made in. A connect that closes a cycle has its sides in a canonical
+  /// order too. Returns a copy of this assembly when it is in that
   /// order already, and also when a connect does not verify in the canonical order (a closure
   /// search that misses): then the order they were made in stands. `deadline` bounds the
   /// verification of the connects made again.
