@@ -781,7 +781,12 @@ std::vector<Assembly::CanonicalConnect> Assembly::canonical_connect_order() cons
       // that brings a part in stays as written: connect() takes the side already in as the
       // parent whichever it is.
       const bool closes = key.count(c.a.part.get()) > 0 && key.count(c.b.part.get()) > 0;
-      const bool swapped = closes && side(c.a) < side(c.b);
+      // Sides that only their names tell apart (a symmetric chain closing in its middle)
+      // go by the names, larger first too.
+      auto ranked = [&](const PrimitiveRef& r) {
+        return std::pair(side(r), fmt::format("{}.{}", r.part->instance_name, r.index.value));
+      };
+      const bool swapped = closes && ranked(c.a) < ranked(c.b);
       order.push_back({k, swapped});
       for (const PrimitiveRef* r : {&c.a, &c.b}) key.emplace(r->part.get(), k_key);
     }
