@@ -4,9 +4,13 @@ namespace fabkit::hacks::detail {
 namespace {
 
 solvers::ManifoldSolverOptions solver_options(
-    const Problem& p, std::optional<std::chrono::steady_clock::time_point> deadline) {
+    const Problem& p,
+    Objective objective,
+    std::optional<std::chrono::steady_clock::time_point> deadline) {
   solvers::ManifoldSolverOptions o;
-  o.gradient_tolerance = kGradientTolerance;
+  // Holding the target is only ever the settling of a start (step 1's candidates).
+  o.gradient_tolerance =
+      objective == Objective::kEnergyHoldingTarget ? kSettleTolerance : kGradientTolerance;
   o.feasibility_tolerance = kClosureTolerance;
   o.projection_tolerance = kProjectionTolerance;
   o.inequality_margin = kInequalityMargin;
@@ -38,7 +42,8 @@ AssemblySolver::AssemblySolver(const Problem& p,
     : problem_(p),
       vars_(v),
       eval_(p, v, x, o),
-      solver_(eval_, lower(*p.assembly, v), upper(*p.assembly, v), solver_options(p, deadline)) {}
+      solver_(eval_, lower(*p.assembly, v), upper(*p.assembly, v), solver_options(p, o, deadline)) {
+}
 
 bool AssemblySolver::close(std::vector<double>& x, int max_iterations) {
   Eigen::VectorXd z = scaled(vars_, x);
