@@ -736,6 +736,18 @@ std::vector<Assembly::CanonicalConnect> Assembly::canonical_connect_order() cons
                        how(k),
                        holds(fresh.part.get(), k));
   };
+  // Connects nothing above tells apart (two identical chains hung side by side from one
+  // rod) are interchangeable but still decide the solver's path: they go by the names their
+  // parts were given (a design file's), and without names in the order they were made.
+  auto name = [](const PrimitiveRef& r) {
+    return fmt::format("{}.{}", r.part->instance_name, r.index.value);
+  };
+  auto named = [&](std::size_t k) {
+    const ConnectCall& c = connects_made_[k];
+    std::pair<std::string, std::string> both(name(c.a), name(c.b));
+    if (both.second < both.first) std::swap(both.first, both.second);
+    return both;
+  };
   std::vector<CanonicalConnect> order;
   std::vector<char> taken(connects_made_.size(), 0);
   while (order.size() < connects_made_.size()) {
@@ -755,17 +767,6 @@ std::vector<Assembly::CanonicalConnect> Assembly::canonical_connect_order() cons
       }
     }
     if (ready.empty()) break;  // not made from the environments outwards: cannot happen
-    // Connects nothing above tells apart (two identical chains hung side by side from one
-    // rod) are interchangeable but still decide the solver's path: they go by the names
-    // their parts were given (a design file's), and without names in the order they were
-    // made.
-    auto named = [&](std::size_t k) {
-      const ConnectCall& c = connects_made_[k];
-      std::string u = fmt::format("{}.{}", c.a.part->instance_name, c.a.index.value);
-      std::string v = fmt::format("{}.{}", c.b.part->instance_name, c.b.index.value);
-      if (v < u) std::swap(u, v);
-      return u + "|" + v;
-    };
     std::stable_sort(ready.begin(), ready.end(), [&](const auto& u, const auto& v) {
       if (u.first != v.first) return u.first < v.first;
       return named(u.second) < named(v.second);
@@ -783,9 +784,7 @@ std::vector<Assembly::CanonicalConnect> Assembly::canonical_connect_order() cons
       const bool closes = key.count(c.a.part.get()) > 0 && key.count(c.b.part.get()) > 0;
       // Sides that only their names tell apart (a symmetric chain closing in its middle)
       // go by the names, larger first too.
-      auto ranked = [&](const PrimitiveRef& r) {
-        return std::pair(side(r), fmt::format("{}.{}", r.part->instance_name, r.index.value));
-      };
+      auto ranked = [&](const PrimitiveRef& r) { return std::pair(side(r), name(r)); };
       const bool swapped = closes && ranked(c.a) < ranked(c.b);
       order.push_back({k, swapped});
       for (const PrimitiveRef* r : {&c.a, &c.b}) key.emplace(r->part.get(), k_key);
@@ -797,11 +796,12 @@ std::vector<Assembly::CanonicalConnect> Assembly::canonical_connect_order() cons
 Assembly Assembly::in_canonical_order(
     std::optional<std::chrono::steady_clock::time_point> deadline) const {
   const std::vector<CanonicalConnect> order = canonical_connect_order();
-  bool as_made = order.size() == connects_made_.size();
+  if (order.size() != connects_made_.size()) return *this;  // cannot happen (see there)
+  bool as_made = true;
   for (std::size_t k = 0; as_made && k < order.size(); ++k) {
     as_made = order[k].index == k && !order[k].swapped;
   }
-  if (as_made || order.size() != connects_made_.size()) return *this;
+  if (as_made) return *this;
   Assembly out;
   for (const AddCall& a : adds_) {
     const ConnectReport r =

@@ -206,68 +206,6 @@ TEST(Physics, SpinningARodAboutItsAxisChangesNothing) {
   EXPECT_GE(checked, 2);
 }
 
-// The order of the connects does not matter (as long as each part still comes in through the
-// same connection): branches built in another order rest the same.
-TEST(Physics, TheOrderOfConnectsDoesNotMatter) {
-  std::mt19937_64 rng(3);
-  for (const std::string& name : gallery()) {
-    SCOPED_TRACE(name);
-    const std::string yaml = read_example(name);
-    YAML::Node root = YAML::Load(yaml);
-    // Which side of each connect is in the assembly already, in the file's order.
-    std::set<std::string> in;
-    for (const auto& e : root["environment"]) in.insert(e["name"].as<std::string>());
-    struct Step {
-      YAML::Node node;
-      std::string a, b;
-      bool cycle;
-    };
-    std::vector<Step> steps;
-    for (const auto& c : root["connections"]) {
-      auto part_of = [](const std::string& ref) { return ref.substr(0, ref.find('.')); };
-      const std::string a = part_of(c["connect"][0].as<std::string>());
-      const std::string b = part_of(c["connect"][1].as<std::string>());
-      const bool cycle = in.count(a) && in.count(b);
-      steps.push_back({YAML::Clone(c), a, b, cycle});
-      in.insert(a);
-      in.insert(b);
-    }
-    for (int trial = 0; trial < 3; ++trial) {
-      // A random order in which every connect still finds its old side in place.
-      std::set<std::string> placed;
-      for (const auto& e : root["environment"]) placed.insert(e["name"].as<std::string>());
-      // Indices, not nodes: assigning a YAML::Node overwrites what it refers to.
-      std::vector<std::size_t> left(steps.size());
-      for (std::size_t i = 0; i < left.size(); ++i) left[i] = i;
-      YAML::Node order(YAML::NodeType::Sequence);
-      while (!left.empty()) {
-        std::vector<std::size_t> ready;
-        for (std::size_t i = 0; i < left.size(); ++i) {
-          const Step& st = steps[left[i]];
-          const bool a_in = placed.count(st.a) > 0;
-          const bool b_in = placed.count(st.b) > 0;
-          if (st.cycle ? (a_in && b_in) : (a_in != b_in)) ready.push_back(i);
-        }
-        ASSERT_FALSE(ready.empty());
-        const std::size_t pick =
-            ready[std::uniform_int_distribution<std::size_t>(0, ready.size() - 1)(rng)];
-        const Step& st = steps[left[pick]];
-        order.push_back(YAML::Clone(st.node));
-        placed.insert(st.a);
-        placed.insert(st.b);
-        left.erase(left.begin() + static_cast<std::ptrdiff_t>(pick));
-      }
-      YAML::Node shuffled = YAML::Clone(root);
-      shuffled["connections"] = order;
-      const Outcome a = solve_text(yaml);
-      const Outcome b = solve_text(emit(shuffled));
-      EXPECT_EQ(a.stable, b.stable) << a.summary << b.summary;
-      if (!a.stable) continue;  // not at rest: only the verdicts must agree (see above)
-      EXPECT_NEAR(a.energy / a.mass, b.energy / b.mass, 0.05) << a.summary << b.summary;
-    }
-  }
-}
-
 // Every order of the connects in which each one finds a side already placed, the orders that
 // move where a cycle closes included (a part that came in through one connection coming in
 // through another): the same connections, the same answer. A broom handle hung from two eye
