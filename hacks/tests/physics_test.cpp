@@ -691,6 +691,32 @@ TEST(Physics, ALongSlackSpanSagsWhateverTheSeed) {
   for (double low : lowest) EXPECT_NEAR(low, lowest.front(), 1.0);
 }
 
+// Slack spans of other lengths and widths come to rest too. Their relaxations used to end at
+// the iteration limit still sloping (1e-6 to 6e-5: "did not converge"): joints let go of
+// their stops and caught back at them step after step kept the steps short. Every one of
+// these sags at rest, symmetric, with nothing passing through.
+TEST(Physics, SlackSpansOfAnyLengthComeToRest) {
+  struct Span {
+    int hooks;
+    double apart;
+  };
+  for (const Span& s :
+       {Span{25, 605.5}, Span{25, 480}, Span{26, 480}, Span{28, 480}, Span{20, 300}}) {
+    SCOPED_TRACE(fmt::format("{} hooks, {} mm apart", s.hooks, s.apart));
+    const Design d = load_text(span_between_wall_hooks(s.hooks, s.apart));
+    ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+    const SolveResult r = solve(d.assembly);
+    EXPECT_EQ(to_string(r.termination), "NO_TARGET") << r.summary();
+    EXPECT_LE(r.equilibrium_residual, 1e-6) << r.summary();
+    EXPECT_LE(r.max_penetration_mm, 0.5) << r.summary();
+    Outcome o;
+    o.stable = r.stable;
+    o.summary = r.summary();
+    for (const SolvedPart& p : r.parts) o.positions.push_back(p.frame.pos);
+    expect_sags_between_wall_hooks(o, s.hooks);
+  }
+}
+
 // ---- A hanger and the loads in its notches, by statics ---------------------------------------
 
 // A wire hanger (its y-z plane) on a level rod, with S-hooks hung in its shoulder notches.
@@ -755,16 +781,22 @@ TEST(Physics, LoadsInAHangersNotchTiltItByTheAngleStaticsGives) {
     }
     return best;
   };
+  // Whether an S-hook may jam in its notch: only where loads pull the hanger two ways (two
+  // mugs, or an S-hook across from a mug). A lone load's S-hook may come to rest at its turn's
+  // limit (phi's range) without the stop carrying anything, and is checked by statics all the
+  // same: where a relaxation ends, exactly at the stop or a thousandth of a degree off it,
+  // says nothing about the weights.
   struct Case {
     std::string left, right;
+    bool may_jam = false;
   };
   int checked_free = 0;
   for (const Case& c : {Case{"", ""},
                         Case{"s", ""},
                         Case{"mug", ""},
                         Case{"", "mug"},
-                        Case{"mug", "mug"},
-                        Case{"s", "mug"}}) {
+                        Case{"mug", "mug", true},
+                        Case{"s", "mug", true}}) {
     SCOPED_TRACE("left " + c.left + ", right " + c.right);
     const Design d = load_text(hanger_with_loads(c.left, c.right));
     ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
@@ -805,7 +837,8 @@ TEST(Physics, LoadsInAHangersNotchTiltItByTheAngleStaticsGives) {
         const ParamInfo& info = a.parameters()[static_cast<std::size_t>(i)];
         if (a.label(info.part, info.primitive) != "s" + side + ".hook1") continue;
         const double v = r.parameters[static_cast<std::size_t>(i)];
-        if (info.spec.name == "phi" && (v < info.spec.lo + 1e-6 || v > info.spec.hi - 1e-6)) {
+        if (c.may_jam && info.spec.name == "phi" &&
+            (v < info.spec.lo + 1e-6 || v > info.spec.hi - 1e-6)) {
           jammed = true;
         }
       }

@@ -599,6 +599,9 @@ constexpr double kFailedProjectionShrink = 0.05;
 // Steps in a row that promise less than the potential resolves and do not lower its slope,
 // after which the relaxation stops where it is.
 constexpr int kUnresolvedSteps = 2;
+// Iterations of a relaxation after which coordinates that keep meeting their bounds are held
+// at them (newton()).
+constexpr int kHoldAfter = 50;
 }  // namespace
 
 ManifoldSolver::Result ManifoldSolver::relax(const Eigen::VectorXd& z0, int max_iterations) {
@@ -627,6 +630,35 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
   std::optional<Clock::time_point> previous;
   bool model_current = false;
   int unresolved = 0;  // steps in a row judged by the slope (below) that did not lower it
+  // Coordinates caught at a bound again after being let go of it, once a relaxation has run
+  // kHoldAfter iterations: held there until the point is at rest with them held, then let go
+  // together (the classic active-set rule). Without it a long slack chain's joints left and
+  // met their stops step after step, the steps stayed short and 500 iterations ended short of
+  // rest (slopes of 1e-6 to 6e-5: "did not converge"). From the first iteration it cost more
+  // than it saved where a few joints settle against their stops and leave them once or twice
+  // on the way (the reading nook 265 -> 620 ms); after 50 the gallery's relaxations, which
+  // end sooner, are as they were.
+  std::vector<int> caught(static_cast<std::size_t>(n_), 0);  // times caught, per coordinate
+  std::vector<char> held(static_cast<std::size_t>(n_), 0);
+  auto release = [&] {
+    bool any = false;
+    for (int k = 0; k < n_; ++k) {
+      any = any || held[static_cast<std::size_t>(k)] != 0;
+      held[static_cast<std::size_t>(k)] = 0;
+      caught[static_cast<std::size_t>(k)] = 0;
+    }
+    if (any) model_current = false;
+    return any;
+  };
+  std::vector<char> was_free(static_cast<std::size_t>(n_), 0);
+  auto note_catches = [&](const Point& now) {
+    for (int k = 0; k < n_; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      if (was_free[i] && at_bound(now.z, k) != 0 && ++caught[i] >= 2 && it >= kHoldAfter) {
+        held[i] = 1;
+      }
+    }
+  };
   Active act;
   Eigen::VectorXd rg, lambda, c;
   Eigen::MatrixXd V;
@@ -642,7 +674,26 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     // (the Hessian and its eigendecomposition are most of an iteration's cost).
     if (!model_current) {
       act = active_set(cur);
-      if (act.motions() == 0) break;
+      {
+        // Coordinates let go of a bound (free now) that were caught back at it twice stay.
+        std::vector<int> kept;
+        kept.reserve(act.free.size());
+        for (int k : act.free) {
+          if (!(held[static_cast<std::size_t>(k)] && at_bound(cur.z, k) != 0)) kept.push_back(k);
+        }
+        if (kept.size() != act.free.size()) {
+          act.free = std::move(kept);
+          act.rows_qr.reset();
+          act.rank = 0;
+          set_motions(columns(row_subset(cur.J, act.rows), act.free), act);
+        }
+        std::fill(was_free.begin(), was_free.end(), 0);
+        for (int k : act.free) was_free[static_cast<std::size_t>(k)] = 1;
+      }
+      if (act.motions() == 0) {
+        if (release()) continue;
+        break;
+      }
       motions = act.motions();
       rg = act.onto(rows(cur.g, act.free));
       const Eigen::MatrixXd full = lagrangian_hessian(cur, act);
@@ -685,7 +736,10 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
       model_current = true;
     }
     const bool stationary = rg.cwiseAbs().maxCoeff() < options_.gradient_tolerance;
-    if (stationary && lambda[0] >= 0) break;  // a minimum (up to neutral directions)
+    if (stationary && lambda[0] >= 0) {
+      if (release()) continue;
+      break;  // a minimum (up to neutral directions)
+    }
 
     auto step_for = [&](double mu) {
       Eigen::VectorXd q = Eigen::VectorXd::Zero(rg.size());
@@ -744,7 +798,10 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     // slope over a long step and stop the walk before it gets there.
     const Eigen::VectorXd q = V.transpose() * p;
     const double predicted = -(c.dot(q) + 0.5 * q.dot(lambda.cwiseProduct(q)));
-    if (!(predicted > 0) || p.norm() < 1e-14) break;  // nothing left to gain
+    if (!(predicted > 0) || p.norm() < 1e-14) {
+      if (release()) continue;
+      break;  // nothing left to gain
+    }
     Point trial = step(cur, act, act.along(p));
     const double actual = trial.valid ? cur.f - trial.f : -HUGE_VAL;
     double rho = actual / predicted;
@@ -760,6 +817,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
           next.motions() > 0 ? next.onto(rows(trial.g, next.free)).cwiseAbs().maxCoeff() : 0.0;
       rho = after < 0.5 * before && actual > -resolvable ? 1.0 : 0.0;
       if (rho > 0) {
+        note_catches(trial);
         cur = std::move(trial);
         model_current = false;
         unresolved = 0;
@@ -768,7 +826,11 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
       // A step a quarter as long failed too: the slope left is round-off that no shorter
       // step resolves (the radius used to shrink on to 1e-10, a projected step each time:
       // eight or nine more on most least-squares finishes, measured on the gallery).
-      if (++unresolved >= kUnresolvedSteps) break;
+      if (++unresolved >= kUnresolvedSteps) {
+        unresolved = 0;
+        if (release()) continue;
+        break;
+      }
     } else {
       unresolved = 0;
     }
@@ -781,6 +843,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     bool accepted = false;
     if (trial.valid && actual > 0 && (rho > 0.1 || binding_changes)) {
       if (lambda_min < 0 && stationary) ++out.escapes;
+      note_catches(trial);
       cur = std::move(trial);
       model_current = false;
       accepted = true;
@@ -795,7 +858,11 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     if (rho < 0.25) radius = std::min(radius, 0.25 * p.norm());
     if (accepted && binding_changes)
       radius = std::max(radius, kInitialRadiusShare * options_.max_step);
-    if (radius < 1e-10) break;  // the model cannot find a lower point: as good as it gets
+    if (radius < 1e-10) {
+      // The model cannot find a lower point: as good as it gets, unless coordinates were held.
+      if (!release()) break;
+      radius = kInitialRadiusShare * options_.max_step;
+    }
     if (out.escapes > options_.max_escapes) break;
   }
   return finish(cur, it, max_iterations, out);
