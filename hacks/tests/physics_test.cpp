@@ -700,8 +700,13 @@ TEST(Physics, SlackSpansOfAnyLengthComeToRest) {
     int hooks;
     double apart;
   };
-  for (const Span& s :
-       {Span{25, 605.5}, Span{25, 480}, Span{26, 480}, Span{28, 480}, Span{20, 300}}) {
+  for (const Span& s : {Span{25, 605.5},
+                        Span{30, 605.5},
+                        Span{36, 605.5},
+                        Span{25, 480},
+                        Span{26, 480},
+                        Span{28, 480},
+                        Span{20, 300}}) {
     SCOPED_TRACE(fmt::format("{} hooks, {} mm apart", s.hooks, s.apart));
     const Design d = load_text(span_between_wall_hooks(s.hooks, s.apart));
     ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
