@@ -36,9 +36,13 @@ inline double keyed_uniform(std::uint64_t seed, int start, std::string_view key)
 /// A tiny, seeded nudge of a parameter (a millionth of its range): symmetric starts (a hook
 /// exactly in the middle of its tilt range) leave the search to round-off, which differs with
 /// the world's placement or a file's spelling of an angle; a nudge keyed by the parameter's name
-/// breaks the tie the same way every time.
-inline double symmetry_nudge(std::uint64_t seed, std::string_view key, double range) {
-  return 1e-6 * range * (keyed_uniform(seed, -1, key) - 0.5);
+/// breaks the tie the same way every time. `variant` 1, 2, ... draws other nudges (the
+/// closure search's further stretching starts).
+inline double symmetry_nudge(std::uint64_t seed,
+                             std::string_view key,
+                             double range,
+                             int variant = 0) {
+  return 1e-6 * range * (keyed_uniform(seed, -1 - variant, key) - 0.5);
 }
 
 }  // namespace fabkit::hacks::detail

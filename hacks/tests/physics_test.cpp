@@ -383,6 +383,61 @@ std::string chain_between_rods(int hooks,
   return s;
 }
 
+// Ten small S-hooks between two rods 408 mm apart (88 % of their reach), the right rod
+// 14.3 mm lower, built from the left rod or from the right one (the same connects the other
+// way round and in the other order).
+std::string taut_chain(bool from_left) {
+  std::string s =
+      "fabkit: hacks/1\nname: taut chain\nenvironment:\n"
+      "  - {name: left, primitives: {rod: {type: rod, radius: 4, length: 300}}, "
+      "frame: {pos: [-204.12948237350665, 0, 500], rot: [90, 0, 0]}}\n"
+      "  - {name: right, primitives: {rod: {type: rod, radius: 4, length: 300}}, "
+      "frame: {pos: [204.12948237350665, 0, 485.6738923753454], rot: [90, 0, 180]}}\nparts:\n";
+  constexpr int kHooks = 10;
+  for (int i = 1; i <= kHooks; ++i) s += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
+  s += "connections:\n";
+  if (from_left) {
+    s += "  - connect: [s1.hook1, left.rod]\n";
+    for (int i = 2; i <= kHooks; ++i) {
+      s += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
+    }
+    s += fmt::format("  - {{connect: [s{}.hook2, right.rod], alignment: flip}}\n", kHooks);
+  } else {
+    s += fmt::format("  - {{connect: [s{}.hook2, right.rod], alignment: flip}}\n", kHooks);
+    for (int i = kHooks - 1; i >= 1; --i) {
+      s += fmt::format("  - connect: [s{}.hook2, s{}.hook1]\n", i, i + 1);
+    }
+    s += "  - connect: [s1.hook1, left.rod]\n";
+  }
+  return s;
+}
+
+// A cycle that closes closes whichever end it is built from and whatever the seed. Pulled out
+// nearly taut, the chain passes configurations where a millionth of a parameter's range
+// decides which way it straightens; the closure search's last-resort stretching start, tried
+// one way only, left it open ("the best of 16 starts leaves a gap of 4.6 mm") for 3 of 9 seeds
+// from either end, a different 3 for each end.
+TEST(Physics, ANearlyTautChainClosesFromEitherEndWhateverTheSeed) {
+  for (bool from_left : {true, false}) {
+    for (std::uint64_t seed : {1, 2, 3, 7}) {
+      SCOPED_TRACE(fmt::format("from the {} rod, seed {}", from_left ? "left" : "right", seed));
+      DesignOptions options;
+      options.verify.seed = seed;
+      const Design d =
+          load_design_text(taut_chain(from_left), "taut.yaml", PartsLibrary::builtin(), options);
+      EXPECT_TRUE(d.feasible()) << d.diagnostics.format();
+    }
+  }
+  const Outcome a = solve_text(taut_chain(true));
+  const Outcome b = solve_text(taut_chain(false));
+  EXPECT_TRUE(a.stable) << a.summary;
+  EXPECT_TRUE(b.stable) << b.summary;
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  for (std::size_t i = 0; i < a.positions.size(); ++i) {
+    EXPECT_LT((a.positions[i] - b.positions[i]).norm(), 1e-3) << "part " << i;
+  }
+}
+
 TEST(Physics, ASymmetricChainRestsTheSameFromEitherEnd) {
   for (int hooks : {10, 11}) {
     SCOPED_TRACE(hooks);
