@@ -585,6 +585,7 @@ bool Assembly::verify_closure(ConnectionId id,
     }
   }
   if (!conn.closes_cycle && !(new_multi && has_cycles)) return true;
+  if (!options.verify.close_cycles) return true;  // left open, for verified_in_canonical_order
   // The new connection's group: cycles hanging from fixed parts elsewhere are closed already
   // and do not move with it.
   const std::vector<int> groups = graph_.movable_groups();
@@ -802,23 +803,32 @@ Assembly Assembly::in_canonical_order(
     as_made = order[k].index == k && !order[k].swapped;
   }
   if (as_made) return *this;
+  std::optional<Assembly> out = verified_in_canonical_order(deadline);
+  return out ? std::move(*out) : *this;
+}
+
+std::optional<Assembly> Assembly::verified_in_canonical_order(
+    std::optional<std::chrono::steady_clock::time_point> deadline) const {
+  const std::vector<CanonicalConnect> order = canonical_connect_order();
+  if (order.size() != connects_made_.size()) return std::nullopt;  // cannot happen (see there)
   Assembly out;
   for (const AddCall& a : adds_) {
     const ConnectReport r =
         a.primitive ? out.add(*a.primitive, a.frame, a.where) : out.add(a.part, a.frame, a.where);
-    if (!r.accepted) return *this;
+    if (!r.accepted) return std::nullopt;
   }
   for (const CanonicalConnect& k : order) {
     const ConnectCall& c = connects_made_[k.index];
     ConnectOptions o = c.options;
     o.verify.deadline = deadline;  // the one the connect was made under may be long past
+    o.verify.close_cycles = true;
     const bool made =
         k.swapped ? out.connect(c.b, c.a, o).accepted : out.connect(c.a, c.b, o).accepted;
-    if (!made) return *this;
+    if (!made) return std::nullopt;
   }
   if (target_ &&
       out.end_with(PrimitiveRef(target_->part, target_->primitive), target_->frame).has_errors()) {
-    return *this;
+    return std::nullopt;
   }
   return out;
 }

@@ -233,6 +233,7 @@ class Reader {
       }
       design.steps.push_back(std::move(step));
     }
+    if (!stopped) close_in_canonical_order(design, environments, connects, tdecl);
     // Solved in the canonical order of its connects (Assembly::in_canonical_order): the
     // file's order still decides the verification's messages (design.steps).
     if (!stopped && !diags_.has_errors()) {
@@ -244,6 +245,58 @@ class Reader {
         diags_.warning(codes::kNotConnected,
                        fmt::format("part {} is declared but never connected", name),
                        declared_at_[name]);
+      }
+    }
+  }
+
+  // Where the closure search missed a cycle in the file's order of connects and nothing else
+  // went wrong, the connects are made again in the canonical order (a chain between two rods
+  // closes in its middle there, from both rods at once): which order a file lists them in, or
+  // which end of a cycle it builds first, must not decide whether the design holds together.
+  // If they verify that way, the design is that assembly and the misses become notes.
+  template <typename Envs, typename Connects, typename TargetDeclaration>
+  void close_in_canonical_order(Design& design,
+                                const Envs& environments,
+                                const Connects& connects,
+                                const TargetDeclaration& tdecl) {
+    if (!diags_.has_errors()) return;
+    for (const Diagnostic& d : diags_) {
+      if (d.severity == Severity::kError && d.code != codes::kCycleNotClosable) return;
+    }
+    Assembly open;  // every connect made, cycles left open
+    for (const auto& e : environments) {
+      if (!open.add(e.part, e.frame, e.where).accepted) return;
+    }
+    for (const auto& c : connects) {
+      ConnectOptions o = c.options;
+      o.verify.close_cycles = false;
+      if (!open.connect(c.a, c.b, o).accepted) return;
+    }
+    if (tdecl.part) {
+      const Diagnostics d =
+          tdecl.primitive.valid()
+              ? open.end_with(PrimitiveRef(tdecl.part, tdecl.primitive), tdecl.frame, tdecl.where)
+              : open.end_with(tdecl.part, tdecl.frame, tdecl.where);
+      if (d.has_errors()) return;
+    }
+    std::optional<Assembly> closed = open.verified_in_canonical_order(options_.verify.deadline);
+    if (!closed) return;
+    design.assembly = std::move(*closed);
+    Diagnostics kept;
+    for (const Diagnostic& d : diags_) {
+      if (d.severity == Severity::kError && d.code == codes::kCycleNotClosable) {
+        kept.note(codes::kCycleNotClosable,
+                  "in the order the file makes its connects, " + d.message +
+                      "; in the canonical order of the connects it closes",
+                  d.where);
+      } else {
+        kept.add(d);
+      }
+    }
+    diags_ = std::move(kept);
+    for (DesignStep& step : design.steps) {
+      if (step.kind == DesignStep::Kind::kConnect && !step.accepted && !step.skipped) {
+        step.accepted = true;
       }
     }
   }

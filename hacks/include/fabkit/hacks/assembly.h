@@ -51,6 +51,9 @@ struct VerifyOptions {
   bool stretch_start = true;
   /// Give up the search once this time has passed (servers); none: no limit.
   std::optional<std::chrono::steady_clock::time_point> deadline;
+  /// False: a connect that closes a cycle is recorded with its cycle left open (no search; the
+  /// distance-bound proof still runs). Only for Assembly::verified_in_canonical_order's input.
+  bool close_cycles = true;
 };
 
 struct ConnectOptions {
@@ -246,6 +249,13 @@ class Assembly {
   /// search that misses): then the order they were made in stands. `deadline` bounds the
   /// verification of the connects made again.
   Assembly in_canonical_order(
+      std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
+  /// The same connects made again in the canonical order and verified there, or none if a
+  /// connect does not verify that way. For connects that did not all verify in the order they
+  /// were given (a closure search that missed): this assembly may then have been made with
+  /// VerifyOptions::close_cycles off, its cycles open; the result's are closed. A chain between
+  /// two rods, for one, is closed in its middle in the canonical order, from both rods at once.
+  std::optional<Assembly> verified_in_canonical_order(
       std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
   /// One connect of the canonical order: which (an index into connections()), and whether
   /// its two sides are given the other way round from how they were made (a connect that
