@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "../src/constraints.h"
+#include "../src/cycle_closure.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 #include "fabkit/hacks/solve.h"
 #include "test_support.h"
@@ -137,6 +138,50 @@ TEST(Verify, MultiConnectionSpacingIsEnforced) {
   ASSERT_TRUE(r.accepted) << r.diagnostics.format();
   // |t1 - t2| · 12 mm ≥ 4 mm at the accepted configuration.
   EXPECT_GE(detail::multi_connection_value<double>(pairs[0], a.values().data()), -1e-3);
+}
+
+// A connect made with VerifyOptions::close_cycles off is recorded with its cycle open (the
+// loader's model for connects that did not all verify in a file's order); the same connects
+// verified in the canonical order are closed. A proof of impossibility still stops it.
+TEST(Verify, ACycleLeftOpenIsClosedInTheCanonicalOrder) {
+  auto env = rod_environment(2.5, 60);
+  auto near = rod_environment(2.5, 60);
+  auto dh1 = make_part("DoubleHook");
+  auto dh2 = make_part("DoubleHook");
+  auto ring = make_part("RingXS");
+  Assembly a;
+  a.add(env, Frame(Vec3::Zero(), Vec3(90, 0, 90)));
+  a.add(near, Frame(Vec3(40, 0, 0), Vec3(90, 0, 90)));
+  ASSERT_TRUE(a.connect({dh1, "hook1"}, {env, "rod"}).accepted);
+  ASSERT_TRUE(a.connect({dh2, "hook1"}, {near, "rod"}).accepted);
+  ASSERT_TRUE(a.connect({ring, "ring"}, {dh1, "hook2"}).accepted);
+  ConnectOptions open;
+  open.verify.close_cycles = false;
+  ASSERT_TRUE(a.connect({ring, "ring"}, {dh2, "hook2"}, open).accepted);
+  auto largest_gap = [](const Assembly& x) {
+    double gap = 0;
+    for (const detail::ClosureGap& g : detail::closure_gaps(x, x.values())) {
+      gap = std::max(gap, g.position_mm);
+    }
+    return gap;
+  };
+  EXPECT_GT(largest_gap(a), 1.0);  // left open
+  const std::optional<Assembly> closed = a.verified_in_canonical_order();
+  ASSERT_TRUE(closed.has_value());
+  EXPECT_LT(largest_gap(*closed), 1e-3);
+
+  // Two S-hooks on rods 500 mm apart cannot share a ring: proved, not searched.
+  auto far = rod_environment(2.5, 60);
+  Assembly b;
+  b.add(env, Frame(Vec3::Zero(), Vec3(90, 0, 90)));
+  b.add(far, Frame(Vec3(500, 0, 0), Vec3(90, 0, 90)));
+  ASSERT_TRUE(b.connect({dh1, "hook1"}, {env, "rod"}).accepted);
+  ASSERT_TRUE(b.connect({dh2, "hook1"}, {far, "rod"}).accepted);
+  ASSERT_TRUE(b.connect({ring, "ring"}, {dh1, "hook2"}).accepted);
+  const ConnectReport r = b.connect({ring, "ring"}, {dh2, "hook2"}, open);
+  EXPECT_FALSE(r.accepted);
+  EXPECT_TRUE(has_diagnostic(r.diagnostics, codes::kCycleTooLong, "cannot close cycle"))
+      << r.diagnostics.format();
 }
 
 // (e) polygon-inequality quick reject, with the numbers.
