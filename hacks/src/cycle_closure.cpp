@@ -143,7 +143,7 @@ constexpr double kStallFactor = 0.5;
 constexpr int kDragStepIterations = 15;
 constexpr int kStretchIterations = 1000;
 // Tries of the stretching start (close_cycles), each nudged another way.
-constexpr int kStretchTries = 8;
+constexpr int kStretchTries = 4;
 
 // Stops a start early: as soon as the cycle is closed, or when it stalls (kStallFactor).
 class StallCallback : public ceres::IterationCallback {
@@ -640,8 +640,9 @@ ClosureResult close_cycles(const Assembly& assembly,
   // nudged one way, then others: pulled out near taut, a chain passes configurations where a
   // millionth of a parameter's range decides which way it straightens, and only some ways
   // close: a 10-hook chain between rods 408 mm apart closed for 6 of 9 seeds from one end and
-  // 6 of 9 from the other with one try, for all 24 with eight (each try that misses costs
-  // about 20 ms; one that closes ends the search).
+  // 6 of 9 from the other with one try, for 22 of 24 seed-end pairs with four (one that closes
+  // ends the search; one that misses costs 0.02-0.2 s, which is why not more: eight made a
+  // failing 10-hook search 1.7 s).
   for (int k = 0; k < kStretchTries && best > options.tolerance && options.stretch_start &&
                   !(options.deadline && std::chrono::steady_clock::now() > *options.deadline);
        ++k) {

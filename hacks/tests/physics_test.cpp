@@ -416,10 +416,10 @@ std::string taut_chain(bool from_left) {
 // nearly taut, the chain passes configurations where a millionth of a parameter's range
 // decides which way it straightens; the closure search's last-resort stretching start, tried
 // one way only, left it open ("the best of 16 starts leaves a gap of 4.6 mm") for 3 of 9 seeds
-// from either end, a different 3 for each end. Tried eight ways it closes for all but seed 9
-// from the right rod; that one closes in the canonical order of the connects (from both rods
-// at once, in the chain's middle), which the design is then made in, and the file's order's
-// miss is a note.
+// from either end, a different 3 for each end. Tried four ways it closes for all but seed 3
+// from the left rod and seed 9 from the right; those close in the canonical order of the
+// connects (from both rods at once, in the chain's middle), which the design is then made
+// in, and the file's order's miss is a note.
 TEST(Physics, ANearlyTautChainClosesFromEitherEndWhateverTheSeed) {
   for (bool from_left : {true, false}) {
     for (std::uint64_t seed : {1, 2, 3, 7, 9}) {
