@@ -178,6 +178,15 @@ StepResult run_step2(Problem& p,
       std::vector<double> apart = from;
       if (solver.close(apart, 100)) r = solver.relax(apart, iterations_for(q, o));
     }
+    // A relaxation with contact rows has fewer iterations (kContactIterations); one that used
+    // them up still sloping goes on once from where it stopped.
+    if (r.closed && !r.converged && !q.watched.empty() && !past_deadline(q, o)) {
+      StepResult more = solver.relax(r.x, iterations_for(q, o));
+      if (more.closed) {
+        more.iterations += r.iterations;
+        r = std::move(more);
+      }
+    }
     return r;
   };
   // A relaxation that ends with two parts deep inside each other has most often started from
