@@ -803,7 +803,7 @@ Assembly Assembly::in_canonical_order(
     as_made = order[k].index == k && !order[k].swapped;
   }
   if (as_made) return *this;
-  std::optional<Assembly> out = verified_in_canonical_order(deadline);
+  std::optional<Assembly> out = made_in(order, deadline);
   return out ? std::move(*out) : *this;
 }
 
@@ -811,6 +811,12 @@ std::optional<Assembly> Assembly::verified_in_canonical_order(
     std::optional<std::chrono::steady_clock::time_point> deadline) const {
   const std::vector<CanonicalConnect> order = canonical_connect_order();
   if (order.size() != connects_made_.size()) return std::nullopt;  // cannot happen (see there)
+  return made_in(order, deadline);
+}
+
+std::optional<Assembly> Assembly::made_in(
+    const std::vector<CanonicalConnect>& order,
+    std::optional<std::chrono::steady_clock::time_point> deadline) const {
   Assembly out;
   for (const AddCall& a : adds_) {
     const ConnectReport r =

@@ -297,6 +297,7 @@ class Reader {
     for (DesignStep& step : design.steps) {
       if (step.kind == DesignStep::Kind::kConnect && !step.accepted && !step.skipped) {
         step.accepted = true;
+        step.closed_in_canonical_order = true;
       }
     }
   }

@@ -288,6 +288,11 @@ class Assembly {
                            Diagnostics& diags) const;
   ConnectionId record_connection(ConnectPlan& plan, const ConnectOptions& options);
   bool verify_closure(ConnectionId id, const ConnectOptions& options, ConnectReport& report);
+  /// The adds, every connect in `order` (verified, cycles closed) and the target, made again;
+  /// none if one of them is refused.
+  std::optional<Assembly> made_in(
+      const std::vector<CanonicalConnect>& order,
+      std::optional<std::chrono::steady_clock::time_point> deadline) const;
 
   struct PrimitiveState {
     std::vector<double> available;  ///< available critical dimension

@@ -46,6 +46,10 @@ struct DesignStep {
   SourceLocation where;
   bool accepted = false;
   bool skipped = false;  ///< not attempted because an earlier step it depends on failed
+  /// A connect whose cycle the search missed in the file's order and which closed only with
+  /// the connects made again in the canonical order (accepted; `report` is the file order's
+  /// miss).
+  bool closed_in_canonical_order = false;
   ConnectReport report;
 };
 
