@@ -30,7 +30,14 @@ __all__ = [
 class Assembly:
     """A fixture hack: an environment, parts, and which primitives connect (paper §4.2)."""
 
-    def __init__(self):
+    _seed = 1  # also for assemblies a design file made (Design)
+
+    def __init__(self, seed=1):
+        """``seed`` seeds every random start of the closure search and of the solve (same
+        program, same seed: same answer)."""
+        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+            raise TypeError("seed must be a whole number (0 or more)")
+        self._seed = seed
         self._assembly = _k.Assembly()
 
     def add(self, environment, frame=None):
@@ -40,12 +47,15 @@ class Assembly:
     def connect(self, a, b, alignment="default", is_fixed=False, time_limit=None):
         """Connects two primitives (in any order). Raises ConnectError if they cannot be
         connected, TimeLimitError if verifying a cycle takes longer than ``time_limit``
-        seconds; returns True if the connection closes a cycle."""
+        seconds; returns True if the connection closes a cycle. A cycle the closure search
+        misses in the program's order of connects is tried again with the connects so far in
+        their canonical order (as design files are), so which end is built first does not
+        decide whether it closes."""
         if not isinstance(alignment, str):
             raise TypeError('alignment must be "default" or "flip"')
         if not isinstance(is_fixed, bool):
             raise TypeError("is_fixed must be True or False")
-        return self._assembly.connect(a, b, alignment, is_fixed, time_limit)
+        return self._assembly.connect(a, b, alignment, is_fixed, time_limit, self._seed)
 
     def end_with(self, target, frame=None):
         """The target: a part (its first primitive) or a primitive should end at ``frame``."""
@@ -58,7 +68,7 @@ class Assembly:
         to Frame), ``slipping``, ``timings_ms``, ``summary()``, ``save_json(path)``,
         ``save_glb(path)`` and ``save_all(directory)``. Past ``time_limit`` seconds raises
         TimeLimitError; its ``result`` is the best result so far."""
-        r = self._assembly.solve(time_limit)
+        r = self._assembly.solve(time_limit, self._seed)
         if r.termination == "TIMEOUT":
             e = TimeLimitError(r.stopped_message)
             e.result = r

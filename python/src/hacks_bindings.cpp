@@ -7,7 +7,9 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <thread>
 
 #include "convert.h"
@@ -16,6 +18,7 @@
 #include "fabkit/hacks/assembly.h"
 #include "fabkit/hacks/deadline.h"
 #include "fabkit/hacks/design_file.h"
+#include "fabkit/hacks/diagnostic_codes.h"
 #include "fabkit/hacks/parts_library.h"
 #include "fabkit/hacks/primitive_spec.h"
 #include "fabkit/hacks/solution_export.h"
@@ -165,6 +168,30 @@ PrimitiveRef to_ref(const py::object& o, const char* what) {
   throw py::type_error(fmt::format("{} takes a primitive such as part.hook1 (or a part), not {}",
                                    what,
                                    py::str(py::type::of(o).attr("__name__")).cast<std::string>()));
+}
+
+// As a design file's connects are (design_file.cpp): a connect whose only fault is that the
+// closure search missed its cycle in the program's order of connects is made again with every
+// connect so far in the canonical order (a chain between two rods closes in its middle there,
+// from both rods at once). Which end of a cycle a program builds first must not decide whether
+// it holds together. The assembly made that way, or none if the cycle does not close there
+// either.
+std::optional<Assembly> closed_in_canonical_order(const Assembly& a,
+                                                  const PrimitiveRef& p1,
+                                                  const PrimitiveRef& p2,
+                                                  const ConnectOptions& options,
+                                                  const Diagnostics& why) {
+  bool only_misses = why.has_errors();
+  for (const Diagnostic& d : why) {
+    only_misses = only_misses &&
+                  (d.severity != Severity::kError || d.code == hacks::codes::kCycleNotClosable);
+  }
+  if (!only_misses) return std::nullopt;
+  Assembly open = a;
+  ConnectOptions left_open = options;
+  left_open.verify.close_cycles = false;
+  if (!open.connect(p1, p2, left_open).accepted) return std::nullopt;
+  return open.verified_in_canonical_order(options.verify.deadline);
 }
 
 // A solve's result, with the assembly it came from (for the exporters).
@@ -320,7 +347,8 @@ void fabkit::python::bind_hacks(py::module_ m) {
              const py::object& p2,
              const std::string& alignment,
              bool is_fixed,
-             const py::object& time_limit) {
+             const py::object& time_limit,
+             std::uint64_t seed) {
             if (!py::isinstance<PrimitiveRef>(p1) || !py::isinstance<PrimitiveRef>(p2)) {
               const py::object& bad = py::isinstance<PrimitiveRef>(p1) ? p2 : p1;
               if (py::isinstance<Part>(bad)) {
@@ -342,11 +370,17 @@ void fabkit::python::bind_hacks(py::module_ m) {
             o.alignment = *choice;
             o.fixed = is_fixed;
             o.verify.deadline = python::deadline_from(time_limit);
+            o.verify.seed = seed;
             ConnectReport r = a.connect(p1.cast<PrimitiveRef>(), p2.cast<PrimitiveRef>(), o);
             if (!r.accepted) {
               if (mark_cut_by_deadline(r, o.verify) ||
                   r.diagnostics.deciding_class() == DiagnosticClass::kInput) {
                 python::raise_diagnostics(r.diagnostics);
+              }
+              if (std::optional<Assembly> closed = closed_in_canonical_order(
+                      a, p1.cast<PrimitiveRef>(), p2.cast<PrimitiveRef>(), o, r.diagnostics)) {
+                a = std::move(*closed);
+                return true;
               }
               raise(python::errors().connect, messages(r.diagnostics));
             }
@@ -356,7 +390,8 @@ void fabkit::python::bind_hacks(py::module_ m) {
           py::arg("b"),
           py::arg("alignment") = "default",
           py::arg("is_fixed") = false,
-          py::arg("time_limit") = py::none())
+          py::arg("time_limit") = py::none(),
+          py::arg("seed") = std::uint64_t{1})
       .def("end_with",
            [](Assembly& a, const py::object& target, const py::object& frame) {
              const Diagnostics d =
@@ -368,13 +403,15 @@ void fabkit::python::bind_hacks(py::module_ m) {
       .def_property_readonly("part_count", &Assembly::part_count)
       .def(
           "solve",
-          [](const Assembly& a, const py::object& time_limit) {
+          [](const Assembly& a, const py::object& time_limit, std::uint64_t seed) {
             SolveOptions o;
             o.deadline = python::deadline_from(time_limit);
+            o.seed = seed;
             py::gil_scoped_release release;
             return solve_one(a, o);
           },
-          py::arg("time_limit") = py::none());
+          py::arg("time_limit") = py::none(),
+          py::arg("seed") = std::uint64_t{1});
 
   py::class_<Solved>(m, "SolveResult")
       .def_property_readonly("stable", [](const Solved& s) { return s.result.stable; })
