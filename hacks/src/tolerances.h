@@ -14,6 +14,10 @@ inline constexpr double kGradientTolerance = 1e-9;
 /// equilibrium (docs/result-format.md): it is reported as "did not converge", never as stable.
 inline constexpr double kEquilibriumTolerance = 1e-6;
 
+/// Step 1's candidates whose target errors differ by less than this (mm, degrees) are equally
+/// near: step 2 relaxes them all and keeps the one that rests nearest (solve.cpp).
+inline constexpr double kEquallyNear = 0.01;
+
 /// Settling a candidate with its target held (step 2's start) ends once the potential slopes
 /// by less than this: it is a start, and the relaxation that follows lets the target go and
 /// goes on to kGradientTolerance whatever it is given. Its last models crawl: the 64-hook
