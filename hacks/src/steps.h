@@ -268,7 +268,9 @@ bool close_again(const Problem& p,
 
 /// Seeded values keyed by the parameters' names (the same for a parameter whatever its place
 /// in the vector or the order of the connects) for the parameters `vars` of x, uniform within
-/// their bounds: all of them, or with `unbounded_only` only the unbounded angles.
+/// their bounds: all of them, or with `unbounded_only` only the unbounded angles. An unbounded
+/// angle is turned from its value in x by a uniform draw (its zero depends on how the file
+/// placed the primitive, a rod spun about its axis), a bounded parameter drawn afresh.
 void draw_keyed(const Assembly& a,
                 const std::vector<int>& vars,
                 std::uint64_t seed,
