@@ -520,7 +520,11 @@ ClosureResult close_cycles(const Assembly& assembly,
       } else if (layout.newest_only.empty() || layout.newest_only.count(v) || start % 2 == 0) {
         // Odd starts explore only what the newest cycle adds, keeping the cycles closed
         // before as they are; even starts explore everything.
-        z[k] = s.lo + keyed_uniform(options.seed, start, assembly.parameter_key(v)) * (s.hi - s.lo);
+        z[k] = drawn_value(x0[static_cast<std::size_t>(v)],
+                           keyed_uniform(options.seed, start, assembly.parameter_key(v)),
+                           s.lo,
+                           s.hi,
+                           s.tag == ParamTag::kUnbounded);
       } else {
         double val = x0[static_cast<std::size_t>(v)];
         if (s.tag != ParamTag::kUnbounded) val = std::clamp(val, s.lo, s.hi);

@@ -1,6 +1,7 @@
 #pragma once
 // Seeded random numbers that are the same on every platform (std distributions are not).
 
+#include <cmath>
 #include <cstdint>
 #include <string_view>
 
@@ -43,6 +44,17 @@ inline double symmetry_nudge(std::uint64_t seed,
                              double range,
                              int variant = 0) {
   return 1e-6 * range * (keyed_uniform(seed, -1 - variant, key) - 0.5);
+}
+
+/// The value a random start gives a parameter in [lo, hi] for a draw u in [0, 1): uniform
+/// within the bounds, or for a turn with no ends (`unbounded`) turned from its current value
+/// by u of a whole turn. Such a turn's zero is wherever the design's file put the primitive's
+/// frame (a rod spun about its axis): drawn from the zero, the same draw would be another
+/// physical start.
+inline double drawn_value(double current, double u, double lo, double hi, bool unbounded) {
+  const double range = hi - lo;
+  if (!unbounded) return lo + u * range;
+  return lo + std::fmod(std::fmod(current - lo + u * range, range) + range, range);
 }
 
 }  // namespace fabkit::hacks::detail

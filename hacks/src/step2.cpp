@@ -156,17 +156,12 @@ void draw_keyed(const Assembly& a,
   for (int v : vars) {
     const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
     if (unbounded_only && s.tag != ParamTag::kUnbounded) continue;
-    const double u = keyed_uniform(seed, stream, a.parameter_key(v));
     double& value = x[static_cast<std::size_t>(v)];
-    if (s.tag == ParamTag::kUnbounded) {
-      // A turn with no ends is drawn from where it is, not from its zero: the zero is wherever
-      // the design's file happened to put the primitive's frame (a rod spun about its axis),
-      // and the same draw must make the same physical start.
-      const double range = s.hi - s.lo;
-      value = s.lo + std::fmod(std::fmod(value - s.lo + u * range, range) + range, range);
-    } else {
-      value = s.lo + u * (s.hi - s.lo);
-    }
+    value = drawn_value(value,
+                        keyed_uniform(seed, stream, a.parameter_key(v)),
+                        s.lo,
+                        s.hi,
+                        s.tag == ParamTag::kUnbounded);
   }
 }
 
