@@ -227,11 +227,14 @@ StepResult run_step2(Problem& p,
             const auto index = static_cast<std::size_t>(side->offset) + i;
             if (!is_variable[index]) continue;
             const ParamSpec& s = a.parameters()[index].spec;
-            x[index] =
-                s.lo + keyed_uniform(o.seed,
-                                     kUnfoldStream + (environment ? kUnfoldTries : 0) + attempt,
-                                     a.parameter_key(static_cast<int>(index))) *
-                           (s.hi - s.lo);
+            x[index] = drawn_value(
+                x[index],
+                keyed_uniform(o.seed,
+                              kUnfoldStream + (environment ? kUnfoldTries : 0) + attempt,
+                              a.parameter_key(static_cast<int>(index))),
+                s.lo,
+                s.hi,
+                s.tag == ParamTag::kUnbounded);
             redrawn = true;
           }
         }
