@@ -35,8 +35,10 @@ class Assembly:
     def __init__(self, seed=1):
         """``seed`` seeds every random start of the closure search and of the solve (same
         program, same seed: same answer)."""
-        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-            raise TypeError("seed must be a whole number (0 or more)")
+        if isinstance(seed, bool) or not isinstance(seed, int):
+            raise TypeError(f"seed must be a whole number, not {type(seed).__name__}")
+        if not 0 <= seed < 2**64:
+            raise ValueError(f"seed must be from 0 to 2**64 - 1, not {seed}")
         self._seed = seed
         self._assembly = _k.Assembly()
 

@@ -86,10 +86,18 @@ def test_a_cycle_closes_whichever_end_the_program_builds_first():
 
 
 def test_seed_must_be_a_whole_number():
-    with pytest.raises(TypeError, match="seed must be a whole number"):
-        Assembly(seed=-1)
-    with pytest.raises(TypeError, match="seed must be a whole number"):
+    with pytest.raises(TypeError, match="seed must be a whole number, not float"):
         Assembly(seed=1.5)
+    with pytest.raises(ValueError, match="seed must be from 0 to 2\\*\\*64 - 1, not -1"):
+        Assembly(seed=-1)
+    with pytest.raises(ValueError, match="not 18446744073709551616"):
+        Assembly(seed=2**64)
+    # The largest reaches the closure search and the solve.
+    assembly = Assembly(seed=2**64 - 1)
+    env = Environment({"rod": Rod({"length": 500, "radius": 5})})
+    assembly.add(env, Frame([0, 0, 500], [90, 0, 90]))
+    assembly.connect(DoubleHook().hook1, env.rod)
+    assert assembly.solve().stable
 
 
 def test_result_mirrors_result_json(tmp_path):
