@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -884,8 +885,7 @@ std::string Assembly::describe_cycle(ConnectionId closing) const {
   return out;
 }
 
-std::string Assembly::structural_key(PartId id) const {
-  const PartNode& n = parts_.at(id.index());
+std::vector<std::string> Assembly::structural_keys() const {
   // A primitive by what it is, not by what a design calls it: an environment's primitives
   // are named by the design ("door" in one program, "rod" in the file that means the same), so
   // they are keyed by type and place in the environment; a part's come from the part itself.
@@ -894,28 +894,49 @@ std::string Assembly::structural_key(PartId id) const {
     if (!owner.environment) return p.name;
     return fmt::format("{}@{}", to_string(p.type), prim.value);
   };
-  const ConnectionId up = parent(id);
-  if (!up.valid()) {
-    // An environment: its type and its primitives' types (two loose-primitive environments
-    // differ).
-    std::string key = n.part->type_name + "{";
-    for (const Primitive& p : n.part->primitives) key += std::string(to_string(p.type)) + ",";
-    return key + "}";
-  }
-  const Connection& c = connection(up);
-  return structural_key(c.first.part) + ">" +
-         primitive_tag(parts_.at(c.first.part.index()), c.first.primitive) + "|" +
-         n.part->type_name + "." + primitive_tag(n, c.second.primitive);
+  std::vector<std::string> keys(parts_.size());
+  std::vector<char> done(parts_.size(), 0);
+  // Parents precede their children in insertion order, but the walk does not rely on it.
+  std::function<const std::string&(PartId)> key = [&](PartId id) -> const std::string& {
+    const auto i = static_cast<std::size_t>(id.index());
+    if (done[i]) return keys[i];
+    const PartNode& n = parts_.at(i);
+    const ConnectionId up = parent(id);
+    if (!up.valid()) {
+      // An environment: its type and its primitives' types (two loose-primitive environments
+      // differ).
+      std::string k = n.part->type_name + "{";
+      for (const Primitive& p : n.part->primitives) k += std::string(to_string(p.type)) + ",";
+      keys[i] = k + "}";
+    } else {
+      const Connection& c = connection(up);
+      keys[i] = key(c.first.part) + ">" +
+                primitive_tag(parts_.at(c.first.part.index()), c.first.primitive) + "|" +
+                n.part->type_name + "." + primitive_tag(n, c.second.primitive);
+    }
+    done[i] = 1;
+    return keys[i];
+  };
+  for (std::size_t i = 0; i < parts_.size(); ++i) key(PartId{static_cast<int>(i)});
+  return keys;
 }
 
-std::string Assembly::parameter_key(int index) const {
-  const ParamInfo& p = params_.at(static_cast<std::size_t>(index));
-  const Connection& c = connection(p.connection);
-  const bool first = index < c.first.offset + static_cast<int>(c.first.params.size());
-  const std::string where = c.closes_cycle
-                                ? structural_key(c.first.part) + "~" + structural_key(c.second.part)
-                                : structural_key(c.second.part);
-  return fmt::format("{}#{}{}", where, first ? "a." : "b.", p.spec.name);
+std::vector<std::string> Assembly::parameter_keys() const {
+  const std::vector<std::string> parts = structural_keys();
+  std::vector<std::string> keys;
+  keys.reserve(params_.size());
+  for (std::size_t index = 0; index < params_.size(); ++index) {
+    const ParamInfo& p = params_[index];
+    const Connection& c = connection(p.connection);
+    const bool first =
+        static_cast<int>(index) < c.first.offset + static_cast<int>(c.first.params.size());
+    const std::string& child = parts[static_cast<std::size_t>(c.second.part.index())];
+    const std::string where =
+        c.closes_cycle ? parts[static_cast<std::size_t>(c.first.part.index())] + "~" + child
+                       : child;
+    keys.push_back(fmt::format("{}#{}{}", where, first ? "a." : "b.", p.spec.name));
+  }
+  return keys;
 }
 
 void Assembly::set_values(std::vector<double> x) {

@@ -507,21 +507,23 @@ ClosureResult close_cycles(const Assembly& assembly,
     return keep_if_best();
   };
   int nudge = 0;  // which symmetry nudge start 0 gets (the stretching start's tries)
+  const std::vector<std::string> keys = assembly.parameter_keys();
   auto load_start = [&](int start) {
     for (std::size_t k = 0; k < m; ++k) {
       const int v = layout.variables[k];
       const ParamSpec& s = assembly.parameters()[static_cast<std::size_t>(v)].spec;
       if (start == 0) {
         // The current configuration, kept inside its bounds: earlier cycles are closed there.
-        double val = x0[static_cast<std::size_t>(v)] +
-                     symmetry_nudge(options.seed, assembly.parameter_key(v), s.hi - s.lo, nudge);
+        double val =
+            x0[static_cast<std::size_t>(v)] +
+            symmetry_nudge(options.seed, keys[static_cast<std::size_t>(v)], s.hi - s.lo, nudge);
         if (s.tag != ParamTag::kUnbounded) val = std::clamp(val, s.lo, s.hi);
         z[k] = val;
       } else if (layout.newest_only.empty() || layout.newest_only.count(v) || start % 2 == 0) {
         // Odd starts explore only what the newest cycle adds, keeping the cycles closed
         // before as they are; even starts explore everything.
         z[k] = drawn_value(x0[static_cast<std::size_t>(v)],
-                           keyed_uniform(options.seed, start, assembly.parameter_key(v)),
+                           keyed_uniform(options.seed, start, keys[static_cast<std::size_t>(v)]),
                            s.lo,
                            s.hi,
                            s.tag == ParamTag::kUnbounded);

@@ -403,6 +403,7 @@ Problem make_problem(const Assembly& a, int group) {
   p.assembly = &a;
   p.group = group;
   p.part_group = a.graph().movable_groups();
+  p.parameter_keys = std::make_shared<const std::vector<std::string>>(a.parameter_keys());
   p.target = make_target(a);
   if (p.target && group >= 0 && p.part_group[p.target->part.index()] != group) p.target.reset();
   for (ConnectionId c : a.cycle_connections()) {

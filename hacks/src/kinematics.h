@@ -37,6 +37,8 @@ struct Problem {
   /// Groups hang from fixed parts independently, so each is solved on its own.
   int group = -1;
   std::vector<int> part_group;  // per part; -1 for environments
+  /// Assembly::parameter_keys(), once per problem: they seed every random start.
+  std::shared_ptr<const std::vector<std::string>> parameter_keys;
   /// Contacts: every part's collision body (shared by the problems of one solve) and the piece
   /// pairs kept apart, one inequality row each (−distance ≤ 0). None: parts may overlap.
   std::shared_ptr<const ContactModel> contacts;

@@ -375,7 +375,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
           if (assembly.parameters()[i].spec.tag == ParamTag::kUnbounded) start[i] += 180.0;
         }
       } else {
-        draw_keyed(assembly, vars.index, options.seed, kOtherClosingStream + k, k % 2 == 1, start);
+        draw_keyed(problem, vars.index, options.seed, kOtherClosingStream + k, k % 2 == 1, start);
       }
       if (!close_again(problem, vars, start, opts)) return std::nullopt;
       const std::vector<Mat4> frames = assembly.part_frames(start);

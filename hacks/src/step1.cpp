@@ -74,7 +74,7 @@ std::optional<StepResult> fit_from_start(
     for (int v : vars.index) {
       const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
       double& x = x0[static_cast<std::size_t>(v)];
-      x += symmetry_nudge(o.seed, a.parameter_key(v), s.hi - s.lo);
+      x += symmetry_nudge(o.seed, (*p.parameter_keys)[static_cast<std::size_t>(v)], s.hi - s.lo);
       if (s.tag != ParamTag::kUnbounded) x = std::clamp(x, s.lo, s.hi);
       // Start 2 turns every unbounded angle half a turn from the verified configuration:
       // the other way to thread a cord through a ring or to hang a part on a rod, a
@@ -85,7 +85,7 @@ std::optional<StepResult> fit_from_start(
     // Even starts draw every parameter; odd ones only the unbounded angles (how a ring is
     // threaded, which way a part spins about a rod), keeping the rest as verified: the
     // choices a local fit cannot change by itself.
-    draw_keyed(a, vars.index, o.seed, start, /*unbounded_only=*/start % 2 == 1, x0);
+    draw_keyed(p, vars.index, o.seed, start, /*unbounded_only=*/start % 2 == 1, x0);
   }
   if (past_deadline(p, o)) return std::nullopt;
   AssemblySolver solver(p, vars, x0, Objective::kTarget, o.deadline);

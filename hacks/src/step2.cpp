@@ -147,18 +147,20 @@ bool close_again(const Problem& p,
   return true;
 }
 
-void draw_keyed(const Assembly& a,
+void draw_keyed(const Problem& p,
                 const std::vector<int>& vars,
                 std::uint64_t seed,
                 int stream,
                 bool unbounded_only,
                 std::vector<double>& x) {
+  const Assembly& a = *p.assembly;
+  const std::vector<std::string>& keys = *p.parameter_keys;
   for (int v : vars) {
     const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
     if (unbounded_only && s.tag != ParamTag::kUnbounded) continue;
     double& value = x[static_cast<std::size_t>(v)];
     value = drawn_value(value,
-                        keyed_uniform(seed, stream, a.parameter_key(v)),
+                        keyed_uniform(seed, stream, keys[static_cast<std::size_t>(v)]),
                         s.lo,
                         s.hi,
                         s.tag == ParamTag::kUnbounded);
@@ -231,7 +233,7 @@ StepResult run_step2(Problem& p,
                 x[index],
                 keyed_uniform(o.seed,
                               kUnfoldStream + (environment ? kUnfoldTries : 0) + attempt,
-                              a.parameter_key(static_cast<int>(index))),
+                              (*q.parameter_keys)[index]),
                 s.lo,
                 s.hi,
                 s.tag == ParamTag::kUnbounded);

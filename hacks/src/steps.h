@@ -271,7 +271,7 @@ bool close_again(const Problem& p,
 /// their bounds: all of them, or with `unbounded_only` only the unbounded angles. An unbounded
 /// angle is turned from its value in x by a uniform draw (its zero depends on how the file
 /// placed the primitive, a rod spun about its axis), a bounded parameter drawn afresh.
-void draw_keyed(const Assembly& a,
+void draw_keyed(const Problem& p,
                 const std::vector<int>& vars,
                 std::uint64_t seed,
                 int stream,

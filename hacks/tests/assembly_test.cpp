@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "fabkit/hacks/diagnostic_codes.h"
 #include "test_support.h"
 
@@ -17,6 +19,38 @@ void expect_frame_near(const Mat4& m, const Vec3& pos, const Vec3& rot, double t
   const Mat3 expected = Frame(Vec3::Zero(), rot).matrix().topLeftCorner<3, 3>();
   EXPECT_LT((m.topLeftCorner<3, 3>() - expected).norm(), 1e-5)
       << "rot " << Frame::from_matrix(m).rot.transpose();
+}
+
+// The random starts are seeded by the parameters' keys: a key names the path of part types
+// and primitives from the environment, so a chain's keys are all different, and a chain
+// built on a rod that its file names otherwise, placed elsewhere, has the same ones.
+TEST(Assembly, ParameterKeysFollowTheStructureOnly) {
+  auto chain_keys = [](const Frame& rod_frame, int hooks) {
+    auto env = rod_environment(4, 300);
+    Assembly a;
+    EXPECT_TRUE(a.add(env, rod_frame).accepted);
+    std::shared_ptr<Part> above = env;
+    std::string primitive = "rod";
+    for (int i = 0; i < hooks; ++i) {
+      auto hook = make_part("DoubleHook");
+      EXPECT_TRUE(a.connect({hook, "hook1"}, {above, primitive}).accepted) << i;
+      above = hook;
+      primitive = "hook2";
+    }
+    EXPECT_EQ(a.parameter_keys().size(), static_cast<std::size_t>(a.parameter_count()));
+    return a.parameter_keys();
+  };
+  const std::vector<std::string> keys = chain_keys(Frame(Vec3(0, 0, 900), Vec3(90, 0, 0)), 12);
+  ASSERT_GE(keys.size(), 12u * 4u);
+  EXPECT_EQ(std::set<std::string>(keys.begin(), keys.end()).size(), keys.size());
+  EXPECT_EQ(chain_keys(Frame(Vec3(250, -40, 1200), Vec3(90, 0, 37)), 12), keys);
+  // A key extends its parent's: the twelfth hook's names the eleven above it and itself.
+  std::size_t hooks_named = 0;
+  for (std::size_t at = 0; (at = keys.back().find("DoubleHook.hook1", at)) != std::string::npos;
+       ++at) {
+    ++hooks_named;
+  }
+  EXPECT_EQ(hooks_named, 12u) << keys.back();
 }
 
 // Reference Appendix A: the Demo (paper Fig. 10) propagated at the default parameters.

@@ -185,12 +185,13 @@ class Assembly {
 
   int parameter_count() const { return static_cast<int>(params_.size()); }
   const std::vector<ParamInfo>& parameters() const { return params_; }
-  /// A name for parameter `index` that depends only on the design's structure (the path of
+  /// A name for every parameter that depends only on the design's structure (the path of
   /// part types and primitives from the environment), not on its place in the vector, the
-  /// order of the connects or what the parts are called; seeds the random starts.
-  std::string parameter_key(int index) const;
-  /// The same for a part: its environment's type and the chain of connections down to it.
-  std::string structural_key(PartId id) const;
+  /// order of the connects or what the parts are called; seeds the random starts. All at once:
+  /// each part's key extends its parent's, so one at a time a chain of n parts costs n³.
+  std::vector<std::string> parameter_keys() const;
+  /// The same for every part: its environment's type and the chain of connections down to it.
+  std::vector<std::string> structural_keys() const;
   /// Current parameter values: the defaults, updated by every successful cycle check.
   const std::vector<double>& values() const { return values_; }
   void set_values(std::vector<double> x);
