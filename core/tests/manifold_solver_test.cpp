@@ -40,8 +40,11 @@ class ConstrainedQuadratic : public ManifoldProblem {
   Eigen::VectorXd b_;
 };
 
-TEST(ManifoldSolver, RelaxReachesTheConstrainedMinimumOfAQuadratic) {
-  constexpr int n = 40;
+// 40 variables: the eigenbasis formed; 120: factored (Eigenbasis::kFactoredFrom).
+class ConstrainedQuadraticOf : public testing::TestWithParam<int> {};
+
+TEST_P(ConstrainedQuadraticOf, RelaxReachesItsMinimum) {
+  const int n = GetParam();
   std::mt19937 rng(7);
   std::normal_distribution<double> normal;
   Eigen::MatrixXd m(n, n);
@@ -70,20 +73,29 @@ TEST(ManifoldSolver, RelaxReachesTheConstrainedMinimumOfAQuadratic) {
   EXPECT_LT((r.z - expected).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_NEAR(r.z.sum(), 1.0, 1e-9);
 }
+INSTANTIATE_TEST_SUITE_P(ManifoldSolver, ConstrainedQuadraticOf, testing::Values(40, 120));
 
-// f = x² + (y² − 1)²: a saddle at the origin, minima at (0, ±1).
+// f = Σ xᵢ² + (y² − 1)² over n − 1 variables x and the last, y: a saddle at the origin,
+// minima at x = 0, y = ±1.
 class Saddle : public ManifoldProblem {
  public:
-  int variables() const override { return 2; }
+  explicit Saddle(int n = 2) : n_(n) {}
+  int variables() const override { return n_; }
   int objectives() const override { return 1; }
   int equalities() const override { return 0; }
   int inequalities() const override { return 0; }
   void evaluate(const double* z, double* values, double* jacobian) override {
-    const double x = z[0], y = z[1];
-    values[0] = x * x + (y * y - 1) * (y * y - 1);
-    jacobian[0] = 2 * x;
-    jacobian[1] = 4 * y * (y * y - 1);
+    const double y = z[n_ - 1];
+    values[0] = (y * y - 1) * (y * y - 1);
+    for (int i = 0; i + 1 < n_; ++i) {
+      values[0] += z[i] * z[i];
+      jacobian[i] = 2 * z[i];
+    }
+    jacobian[n_ - 1] = 4 * y * (y * y - 1);
   }
+
+ private:
+  int n_;
 };
 
 TEST(ManifoldSolver, RelaxLeavesASaddleForAMinimum) {
@@ -94,6 +106,21 @@ TEST(ManifoldSolver, RelaxLeavesASaddleForAMinimum) {
   EXPECT_NEAR(r.z[0], 0.0, 1e-6);
   EXPECT_NEAR(std::abs(r.z[1]), 1.0, 1e-6) << "the balance point at y = 0 is not a rest state";
   EXPECT_GE(r.escapes, 1);
+}
+
+// The same in 100 dimensions, where the step's eigenbasis is factored.
+TEST(ManifoldSolver, RelaxLeavesASaddleForAMinimumInManyDimensions) {
+  constexpr int n = 100;
+  Saddle problem(n);
+  const double inf = std::numeric_limits<double>::infinity();
+  ManifoldSolver solver(
+      problem, Eigen::VectorXd::Constant(n, -inf), Eigen::VectorXd::Constant(n, inf));
+  Eigen::VectorXd start = Eigen::VectorXd::Zero(n);
+  for (int i = 0; i + 1 < n; ++i) start[i] = 0.01 * ((i % 7) - 3);
+  const ManifoldSolver::Result r = solver.relax(start, 300);
+  EXPECT_TRUE(r.converged);
+  EXPECT_LT(r.z.head(n - 1).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_NEAR(std::abs(r.z[n - 1]), 1.0, 1e-6) << "the balance point at y = 0 is not a rest state";
 }
 
 // f = ½‖z − c‖², each evaluation taking `pause` (a model of an expensive step).
@@ -284,7 +311,9 @@ TEST(ManifoldSolver, ReductionsByReflectorsMatchTheExplicitBasis) {
                   .cwiseAbs()
                   .maxCoeff(),
               1e-12);
-    if (rows > 0) EXPECT_LT((c * Z).cwiseAbs().maxCoeff(), 1e-9);  // Z spans c's null space
+    if (rows > 0) {
+      EXPECT_LT((c * Z).cwiseAbs().maxCoeff(), 1e-9);  // Z spans c's null space
+    }
     EXPECT_EQ(static_cast<bool>(act.rows_qr), rows > 0);
     const Eigen::MatrixXd reduced = ManifoldSolver::reduced(act, h);
     const Eigen::MatrixXd explicit_reduced = Z.transpose() * h * Z;

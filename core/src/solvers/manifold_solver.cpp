@@ -6,6 +6,8 @@
 #include <limits>
 #include <optional>
 
+#include "fabkit/core/solvers/eigenbasis.h"
+
 namespace fabkit::solvers {
 
 using Clock = std::chrono::steady_clock;
@@ -661,7 +663,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
   };
   Active act;
   Eigen::VectorXd rg, lambda, c;
-  Eigen::MatrixXd V;
+  std::optional<Eigenbasis> V;
   for (; it < max_iterations; ++it) {
     const auto began = Clock::now();
     if (previous) {
@@ -701,17 +703,9 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
       Eigen::MatrixXd H = reduced(act, full);
       H = 0.5 * (H + H.transpose());
       if (out_of_time()) break;
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
+      V.emplace(H);
       if (out_of_time()) break;
-      const Eigen::VectorXd& raw = eig.eigenvalues();
-      // Eigenvectors come with an arbitrary sign; fix it (largest entry positive) so that an
-      // escape from a balance point goes the same way whatever round-off chose.
-      V = eig.eigenvectors();
-      for (int i = 0; i < V.cols(); ++i) {
-        Eigen::Index k = 0;
-        V.col(i).cwiseAbs().maxCoeff(&k);
-        if (V(k, i) < 0) V.col(i) = -V.col(i);
-      }
+      const Eigen::VectorXd& raw = V->values();
       const double neutral =
           std::max(options_.neutral_floor, options_.neutral_curvature * raw.cwiseAbs().maxCoeff());
       // Curvatures within ± neutral are 0; gradient components below tolerance are 0.
@@ -719,7 +713,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
       for (int i = 0; i < lambda.size(); ++i) {
         if (std::abs(lambda[i]) <= neutral) lambda[i] = 0;
       }
-      c = V.transpose() * rg;
+      c = V->coordinates(rg);
       for (int i = 0; i < c.size(); ++i) {
         if (std::abs(c[i]) <= 0.1 * options_.gradient_tolerance) c[i] = 0;
         if (lambda[i] == 0 && std::abs(c[i]) <= options_.neutral_slope) c[i] = 0;
@@ -742,12 +736,11 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     }
 
     auto step_for = [&](double mu) {
-      Eigen::VectorXd q = Eigen::VectorXd::Zero(rg.size());
+      Eigen::VectorXd y = Eigen::VectorXd::Zero(rg.size());
       for (int i = 0; i < lambda.size(); ++i) {
-        if (c[i] == 0) continue;
-        q -= (c[i] / (lambda[i] + mu)) * V.col(i);
+        if (c[i] != 0) y[i] = -(c[i] / (lambda[i] + mu));
       }
-      return q;
+      return V->combination(y);
     };
     // The step's length, from its coordinates in the (orthonormal) eigenbasis: the search
     // for μ below asks it often, and building the step costs a matrix-vector product.
@@ -790,13 +783,13 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
       // the step falls short of the boundary: go the rest of the way along that direction.
       if (lambda_min < 0 && p.norm() < 0.99 * radius) {
         const double extra = std::sqrt(std::max(0.0, radius * radius - p.squaredNorm()));
-        p += (c[0] > 0 ? -extra : extra) * V.col(0);
+        p += (c[0] > 0 ? -extra : extra) * V->vector(0);
       }
     }
     // The decrease the model promises: the model the step minimised (neutral curvatures 0),
     // not the raw Hessian, whose round-off along neutral directions can outweigh a small
     // slope over a long step and stop the walk before it gets there.
-    const Eigen::VectorXd q = V.transpose() * p;
+    const Eigen::VectorXd q = V->coordinates(p);
     const double predicted = -(c.dot(q) + 0.5 * q.dot(lambda.cwiseProduct(q)));
     if (!(predicted > 0) || p.norm() < 1e-14) {
       if (release()) continue;
