@@ -75,6 +75,59 @@ TEST_P(ConstrainedQuadraticOf, RelaxReachesItsMinimum) {
 }
 INSTANTIATE_TEST_SUITE_P(ManifoldSolver, ConstrainedQuadraticOf, testing::Values(40, 120));
 
+// Residuals r = B·z − d, fewer than the variables.
+class LinearResiduals : public ManifoldProblem {
+ public:
+  LinearResiduals(Eigen::MatrixXd b, Eigen::VectorXd d) : b_(std::move(b)), d_(std::move(d)) {}
+  int variables() const override { return static_cast<int>(b_.cols()); }
+  int objectives() const override { return static_cast<int>(b_.rows()); }
+  int equalities() const override { return 0; }
+  int inequalities() const override { return 0; }
+  void evaluate(const double* z, double* values, double* jacobian) override {
+    const Eigen::Map<const Eigen::VectorXd> x(z, variables());
+    const Eigen::VectorXd r = b_ * x - d_;
+    for (int i = 0; i < objectives(); ++i) {
+      values[i] = r[i];
+      for (int k = 0; k < variables(); ++k) jacobian[i * variables() + k] = b_(i, k);
+    }
+  }
+
+ private:
+  Eigen::MatrixXd b_;
+  Eigen::VectorXd d_;
+};
+
+// Levenberg-Marquardt from z = 0 steps only within B's row space, so it ends at the
+// minimum-norm least-squares solution B⁺·d: with 4 residuals and 8 variables (the damped
+// system of the variables) and 60 (the SVD the size of the residuals), with independent
+// rows, and with a row that is the sum of two others and a d no z meets (residuals left).
+TEST(ManifoldSolver, FitEndsAtTheMinimumNormLeastSquaresSolution) {
+  std::mt19937 rng(13);
+  std::normal_distribution<double> normal;
+  for (int n : {8, 60}) {
+    for (bool dependent : {false, true}) {
+      SCOPED_TRACE(testing::Message() << n << " variables, dependent rows " << dependent);
+      Eigen::MatrixXd b(4, n);
+      for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < n; ++k) b(i, k) = normal(rng);
+      Eigen::VectorXd d(4);
+      for (int i = 0; i < 4; ++i) d[i] = 10 * normal(rng);
+      if (dependent) b.row(3) = b.row(0) + b.row(1);
+      const Eigen::VectorXd expected = b.completeOrthogonalDecomposition().solve(d);
+      LinearResiduals problem(b, d);
+      const double inf = std::numeric_limits<double>::infinity();
+      ManifoldSolver solver(
+          problem, Eigen::VectorXd::Constant(n, -inf), Eigen::VectorXd::Constant(n, inf));
+      const ManifoldSolver::Result r = solver.fit(Eigen::VectorXd::Zero(n), 200);
+      ASSERT_TRUE(r.closed);
+      EXPECT_LT((r.z - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.norm());
+      const double left = (b * expected - d).norm();
+      EXPECT_NEAR((b * r.z - d).norm(), left, 1e-6 * d.norm());
+      if (dependent) EXPECT_GT(left, 1e-3);
+    }
+  }
+}
+
 // f = Σ xᵢ² + (y² − 1)² over n − 1 variables x and the last, y: a saddle at the origin,
 // minima at x = 0, y = ±1.
 class Saddle : public ManifoldProblem {

@@ -513,12 +513,22 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
     // rotation entries have three degrees of freedom), which AAᵀ's inverse would not be.
     // Worth it only well past the residuals' size: below, the motions' own system is as cheap,
     // and the two differ in round-off, which moves the fits' paths (measured on the gallery).
+    //
+    // The SVD is taken through Aᵀ = Q·R (Householder): A = Rᵀ·Qᵀ, and with Rᵀ = U·Σ·Wᵀ (an SVD
+    // the size of the residuals) V = Q·W, so p = −Q·(W·diag(σ/(σ² + c))·Uᵀr), and V itself is
+    // never formed. Eigen's SVD of A formed it, applying every Jacobi rotation of its sweeps to
+    // all of V's rows: on a 64-hook chain that was most of an iteration of step 1.
     const bool wide = A.cols() > 4 * A.rows();
     Eigen::MatrixXd N;
+    Eigen::HouseholderQR<Eigen::MatrixXd> rows_qr;
     Eigen::JacobiSVD<Eigen::MatrixXd> svd;
     Eigen::VectorXd projected;  // Uᵀr
     if (wide) {
-      svd.compute(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+      rows_qr.compute(A.transpose());
+      const Eigen::Index m = A.rows();
+      const Eigen::MatrixXd r_transposed =
+          rows_qr.matrixQR().topRows(m).triangularView<Eigen::Upper>().transpose();
+      svd.compute(r_transposed, Eigen::ComputeFullU | Eigen::ComputeFullV);
       projected = svd.matrixU().transpose() * cur.r;
     } else {
       N = A.transpose() * A;
@@ -533,7 +543,10 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
         const Eigen::VectorXd& sigma = svd.singularValues();
         const Eigen::VectorXd weights =
             (sigma.array() / (sigma.array().square() + mu * scale)).matrix();
-        p = -(svd.matrixV() * weights.cwiseProduct(projected));
+        Eigen::VectorXd turned = Eigen::VectorXd::Zero(A.cols());
+        turned.head(A.rows()) = svd.matrixV() * weights.cwiseProduct(projected);
+        turned.applyOnTheLeft(rows_qr.householderQ());
+        p = -turned;
       } else {
         Eigen::MatrixXd M = N;
         M.diagonal().array() += mu * scale;
