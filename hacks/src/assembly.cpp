@@ -718,7 +718,7 @@ std::vector<Assembly::CanonicalConnect> Assembly::canonical_connect_order() cons
   auto holds = [&](const Part* part, std::size_t except) {
     std::vector<std::string> others;
     for (std::size_t k = 0; k < connects_made_.size(); ++k) {
-      const ConnectCall& c = connects_made_[k];
+      const ConnectRequest& c = connects_made_[k];
       if (k == except || (c.a.part.get() != part && c.b.part.get() != part)) continue;
       const PrimitiveRef& own = c.a.part.get() == part ? c.a : c.b;
       const PrimitiveRef& other = c.a.part.get() == part ? c.b : c.a;
@@ -745,7 +745,7 @@ std::vector<Assembly::CanonicalConnect> Assembly::canonical_connect_order() cons
     return fmt::format("{}.{}", r.part->instance_name, r.index.value);
   };
   auto named = [&](std::size_t k) {
-    const ConnectCall& c = connects_made_[k];
+    const ConnectRequest& c = connects_made_[k];
     std::pair<std::string, std::string> both(name(c.a), name(c.b));
     if (both.second < both.first) std::swap(both.first, both.second);
     return both;
@@ -756,7 +756,7 @@ std::vector<Assembly::CanonicalConnect> Assembly::canonical_connect_order() cons
     std::vector<std::pair<std::string, std::size_t>> ready;
     for (std::size_t k = 0; k < connects_made_.size(); ++k) {
       if (taken[k]) continue;
-      const ConnectCall& c = connects_made_[k];
+      const ConnectRequest& c = connects_made_[k];
       const bool a_in = key.count(c.a.part.get()) > 0;
       const bool b_in = key.count(c.b.part.get()) > 0;
       if (a_in && b_in) {
@@ -775,7 +775,7 @@ std::vector<Assembly::CanonicalConnect> Assembly::canonical_connect_order() cons
     });
     for (const auto& [k_key, k] : ready) {
       taken[k] = 1;
-      const ConnectCall& c = connects_made_[k];
+      const ConnectRequest& c = connects_made_[k];
       // A connect that closes a cycle (perhaps only now, its other side having come in
       // earlier in this level) with the side of the larger key first: which side comes first
       // is a convention (it decides how the closure is parametrised, not what it means);
@@ -815,6 +815,26 @@ std::optional<Assembly> Assembly::verified_in_canonical_order(
   return made_in(order, deadline);
 }
 
+bool Assembly::only_closure_misses(const Diagnostics& why) {
+  if (!why.has_errors()) return false;
+  for (const Diagnostic& d : why) {
+    if (d.severity == Severity::kError && d.code != codes::kCycleNotClosable) return false;
+  }
+  return true;
+}
+
+std::optional<Assembly> Assembly::closed_in_canonical_order(
+    const std::vector<ConnectRequest>& missed,
+    std::optional<std::chrono::steady_clock::time_point> deadline) const {
+  Assembly open = *this;
+  for (const ConnectRequest& c : missed) {
+    ConnectOptions left_open = c.options;
+    left_open.verify.close_cycles = false;
+    if (!open.connect(c.a, c.b, left_open).accepted) return std::nullopt;
+  }
+  return open.verified_in_canonical_order(deadline);
+}
+
 std::optional<Assembly> Assembly::made_in(
     const std::vector<CanonicalConnect>& order,
     std::optional<std::chrono::steady_clock::time_point> deadline) const {
@@ -825,7 +845,7 @@ std::optional<Assembly> Assembly::made_in(
     if (!r.accepted) return std::nullopt;
   }
   for (const CanonicalConnect& k : order) {
-    const ConnectCall& c = connects_made_[k.index];
+    const ConnectRequest& c = connects_made_[k.index];
     ConnectOptions o = c.options;
     o.verify.deadline = deadline;  // the one the connect was made under may be long past
     o.verify.close_cycles = true;

@@ -233,7 +233,7 @@ class Reader {
       }
       design.steps.push_back(std::move(step));
     }
-    if (!stopped) close_in_canonical_order(design, environments, connects, tdecl);
+    if (!stopped) close_in_canonical_order(design, connects);
     // Solved in the canonical order of its connects (Assembly::in_canonical_order): the
     // file's order still decides the verification's messages (design.steps).
     if (!stopped && !diags_.has_errors()) {
@@ -254,32 +254,19 @@ class Reader {
   // closes in its middle there, from both rods at once): which order a file lists them in, or
   // which end of a cycle it builds first, must not decide whether the design holds together.
   // If they verify that way, the design is that assembly and the misses become notes.
-  template <typename Envs, typename Connects, typename TargetDeclaration>
-  void close_in_canonical_order(Design& design,
-                                const Envs& environments,
-                                const Connects& connects,
-                                const TargetDeclaration& tdecl) {
-    if (!diags_.has_errors()) return;
-    for (const Diagnostic& d : diags_) {
-      if (d.severity == Severity::kError && d.code != codes::kCycleNotClosable) return;
+  template <typename Connects>
+  void close_in_canonical_order(Design& design, const Connects& connects) {
+    if (!Assembly::only_closure_misses(diags_)) return;
+    // One connect step per connect, in the file's order (the verification did not stop).
+    std::vector<Assembly::ConnectRequest> missed;
+    std::size_t k = 0;
+    for (const DesignStep& step : design.steps) {
+      if (step.kind != DesignStep::Kind::kConnect) continue;
+      const auto& c = connects.at(k++);
+      if (!step.accepted && !step.skipped) missed.push_back({c.a, c.b, c.options});
     }
-    Assembly open;  // every connect made, cycles left open
-    for (const auto& e : environments) {
-      if (!open.add(e.part, e.frame, e.where).accepted) return;
-    }
-    for (const auto& c : connects) {
-      ConnectOptions o = c.options;
-      o.verify.close_cycles = false;
-      if (!open.connect(c.a, c.b, o).accepted) return;
-    }
-    if (tdecl.part) {
-      const Diagnostics d =
-          tdecl.primitive.valid()
-              ? open.end_with(PrimitiveRef(tdecl.part, tdecl.primitive), tdecl.frame, tdecl.where)
-              : open.end_with(tdecl.part, tdecl.frame, tdecl.where);
-      if (d.has_errors()) return;
-    }
-    std::optional<Assembly> closed = open.verified_in_canonical_order(options_.verify.deadline);
+    std::optional<Assembly> closed =
+        design.assembly.closed_in_canonical_order(missed, options_.verify.deadline);
     if (!closed) return;
     design.assembly = std::move(*closed);
     Diagnostics kept;

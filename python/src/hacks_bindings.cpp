@@ -170,30 +170,6 @@ PrimitiveRef to_ref(const py::object& o, const char* what) {
                                    py::str(py::type::of(o).attr("__name__")).cast<std::string>()));
 }
 
-// As a design file's connects are (design_file.cpp): a connect whose only fault is that the
-// closure search missed its cycle in the program's order of connects is made again with every
-// connect so far in the canonical order (a chain between two rods closes in its middle there,
-// from both rods at once). Which end of a cycle a program builds first must not decide whether
-// it holds together. The assembly made that way, or none if the cycle does not close there
-// either.
-std::optional<Assembly> closed_in_canonical_order(const Assembly& a,
-                                                  const PrimitiveRef& p1,
-                                                  const PrimitiveRef& p2,
-                                                  const ConnectOptions& options,
-                                                  const Diagnostics& why) {
-  bool only_misses = why.has_errors();
-  for (const Diagnostic& d : why) {
-    only_misses = only_misses &&
-                  (d.severity != Severity::kError || d.code == hacks::codes::kCycleNotClosable);
-  }
-  if (!only_misses) return std::nullopt;
-  Assembly open = a;
-  ConnectOptions left_open = options;
-  left_open.verify.close_cycles = false;
-  if (!open.connect(p1, p2, left_open).accepted) return std::nullopt;
-  return open.verified_in_canonical_order(options.verify.deadline);
-}
-
 // A solve's result, with the assembly it came from (for the exporters).
 struct Solved {
   std::shared_ptr<const Assembly> assembly;
@@ -377,10 +353,16 @@ void fabkit::python::bind_hacks(py::module_ m) {
                   r.diagnostics.deciding_class() == DiagnosticClass::kInput) {
                 python::raise_diagnostics(r.diagnostics);
               }
-              if (std::optional<Assembly> closed = closed_in_canonical_order(
-                      a, p1.cast<PrimitiveRef>(), p2.cast<PrimitiveRef>(), o, r.diagnostics)) {
-                a = std::move(*closed);
-                return true;
+              // Which end of a cycle a program builds first must not decide whether it holds
+              // together: a connect whose only fault is a missed closure is tried again with
+              // every connect so far in the canonical order, as design files are.
+              if (Assembly::only_closure_misses(r.diagnostics)) {
+                if (std::optional<Assembly> closed = a.closed_in_canonical_order(
+                        {{p1.cast<PrimitiveRef>(), p2.cast<PrimitiveRef>(), o}},
+                        o.verify.deadline)) {
+                  a = std::move(*closed);
+                  return true;
+                }
               }
               raise(python::errors().connect, messages(r.diagnostics));
             }

@@ -258,6 +258,23 @@ class Assembly {
   /// two rods, for one, is closed in its middle in the canonical order, from both rods at once.
   std::optional<Assembly> verified_in_canonical_order(
       std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
+  /// A connect as it was asked for.
+  struct ConnectRequest {
+    PrimitiveRef a, b;
+    ConnectOptions options;
+  };
+  /// Whether the only errors in `why` are closure searches that missed their cycle
+  /// (codes::kCycleNotClosable): what closed_in_canonical_order() may mend.
+  static bool only_closure_misses(const Diagnostics& why);
+  /// For connects whose closure search missed their cycle in the order they were given (and
+  /// nothing else went wrong): this assembly with `missed` made too, their cycles left open,
+  /// then every connect made again in the canonical order and verified there. Which order a
+  /// file or a program makes its connects in, or which end of a cycle it builds first, must
+  /// not decide whether a design holds together. None if a missed connect cannot be made even
+  /// open, or the cycles do not close in the canonical order either.
+  std::optional<Assembly> closed_in_canonical_order(
+      const std::vector<ConnectRequest>& missed,
+      std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
   /// One connect of the canonical order: which (an index into connections()), and whether
   /// its two sides are given the other way round from how they were made (a connect that
   /// closes a cycle is made with its sides in a canonical order too: which comes first
@@ -327,12 +344,8 @@ class Assembly {
     Frame frame;
     SourceLocation where;
   };
-  struct ConnectCall {
-    PrimitiveRef a, b;
-    ConnectOptions options;
-  };
   std::vector<AddCall> adds_;
-  std::vector<ConnectCall> connects_made_;
+  std::vector<ConnectRequest> connects_made_;
 };
 
 // ---- templates ---------------------------------------------------------------------------
