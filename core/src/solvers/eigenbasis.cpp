@@ -30,41 +30,19 @@ bool tridiagonal_eigen(Eigen::VectorXd& d, Eigen::VectorXd e, Eigen::MatrixXd& z
   if (n == 0) return true;
   if (e.size() < n) e.conservativeResize(n);  // dstedc reads n-1; room for any convention
   const int ldz = n;
-  int info = 0;
-  int lwork = -1;
-  int liwork = -1;
+  // The workspace LAPACK asks for (lwork = liwork = -1), then the decomposition.
+  auto run = [&](double* work, int lwork, int* iwork, int liwork) {
+    int info = 0;
+    dstedc_("I", &n, d.data(), e.data(), z.data(), &ldz, work, &lwork, iwork, &liwork, &info, 1);
+    return info == 0;
+  };
   double work_size = 0;
   int iwork_size = 0;
-  dstedc_("I",
-          &n,
-          d.data(),
-          e.data(),
-          z.data(),
-          &ldz,
-          &work_size,
-          &lwork,
-          &iwork_size,
-          &liwork,
-          &info,
-          1);
-  if (info != 0) return false;
-  lwork = static_cast<int>(work_size);
-  liwork = iwork_size;
-  std::vector<double> work(static_cast<std::size_t>(std::max(1, lwork)));
-  std::vector<int> iwork(static_cast<std::size_t>(std::max(1, liwork)));
-  dstedc_("I",
-          &n,
-          d.data(),
-          e.data(),
-          z.data(),
-          &ldz,
-          work.data(),
-          &lwork,
-          iwork.data(),
-          &liwork,
-          &info,
-          1);
-  return info == 0;
+  if (!run(&work_size, -1, &iwork_size, -1)) return false;
+  std::vector<double> work(static_cast<std::size_t>(std::max(1, static_cast<int>(work_size))));
+  std::vector<int> iwork(static_cast<std::size_t>(std::max(1, iwork_size)));
+  return run(
+      work.data(), static_cast<int>(work.size()), iwork.data(), static_cast<int>(iwork.size()));
 }
 
 // The index of v's entry of largest magnitude (the first of equals).
