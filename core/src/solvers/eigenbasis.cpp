@@ -64,7 +64,9 @@ Eigenbasis::Eigenbasis(const Eigen::MatrixXd& symmetric, bool factored) {
 
 void Eigenbasis::decompose(const Eigen::MatrixXd& symmetric, bool factored) {
   if (symmetric.rows() == 0) return;  // Eigen's solver reads the largest entry of the matrix
-  if (factored && symmetric.rows() > 1) {
+  // Non-finite entries go to Eigen's solver, which reports them as it finds them (LAPACK's
+  // iterations are bounded too, but nothing is gained by handing it a NaN).
+  if (factored && symmetric.rows() > 1 && symmetric.allFinite()) {
     tridiagonal_.emplace(symmetric);
     values_ = tridiagonal_->diagonal();
     if (tridiagonal_eigen(values_, tridiagonal_->subDiagonal(), vectors_)) {

@@ -12,7 +12,8 @@
 ///    point, an escape step: saddles and maxima are not minima), and directions the potential
 ///    does not curve along (neutral) get no step unless it slopes along them;
 ///  - close(): Levenberg-Marquardt on h alone, from an arbitrary point.
-/// Dense Eigen throughout: the kits' problems have tens to a few hundred variables.
+/// Dense Eigen throughout (the kits' problems have tens to a few hundred variables), with
+/// LAPACK's divide and conquer for the eigenbases of large models (eigenbasis.h).
 
 #include <Eigen/Dense>
 #include <chrono>
