@@ -73,6 +73,79 @@ void local_connector_twists(const Primitive& prim, const double* q, Vec3* w, Vec
   apply_connector<Jet3>(prim.connector_kind(), prim.shape, qj, recorder);
 }
 
+std::vector<solvers::ManifoldProblem::GaugePair> AnalyticEvaluator::gauge_pairs() const {
+  const Assembly& a = *problem_.assembly;
+  // Spacing rows read parameters themselves, not the frames: theirs are not gauges.
+  std::vector<char> spaced(base_.size(), 0);
+  for (const MultiConnectionPair& m : problem_.multi) {
+    for (const std::vector<int>* list : {&m.params_i, &m.params_j}) {
+      for (int index : *list) spaced[static_cast<std::size_t>(index)] = 1;
+    }
+  }
+  // The child's frame relative to the parent's, with side parameters q1 and q2.
+  auto relative =
+      [&](const Connection& c, const std::vector<double>& q1, const std::vector<double>& q2) {
+        const Primitive& p1 = a.node(c.first.part).part->primitive(c.first.primitive);
+        const Primitive& p2 = a.node(c.second.part).part->primitive(c.second.primitive);
+        Rigid<double> m1 = c.first.base;
+        apply_connector<double>(p1.connector_kind(), p1.shape, q1.data(), m1);
+        Rigid<double> m2 = c.second.base;
+        apply_connector<double>(p2.connector_kind(), p2.shape, q2.data(), m2);
+        return m1.then(c.offset_rigid) * m2.inverse();
+      };
+  auto same = [](const Rigid<double>& u, const Rigid<double>& v) {
+    return (u.R - v.R).cwiseAbs().maxCoeff() < 1e-10 &&
+           (u.t - v.t).cwiseAbs().maxCoeff() < 1e-10 * (1 + u.t.norm());
+  };
+  // Variable k's parameter turned by `by` (degrees) and variable l's by `sign`·`by` leave the
+  // relative frame where it was — exactly, for finite turns, at two configurations — while k's
+  // alone moves it: a gauge, not a coincidence of one configuration.
+  auto gauge = [&](const Connection& c, const Slot& k, const Slot& l, double sign) {
+    for (double shift : {0.0, 17.0}) {
+      std::vector<double> q1(
+          base_.begin() + c.first.offset,
+          base_.begin() + c.first.offset + static_cast<long>(c.first.params.size()));
+      std::vector<double> q2(
+          base_.begin() + c.second.offset,
+          base_.begin() + c.second.offset + static_cast<long>(c.second.params.size()));
+      for (double& q : q1) q += shift;
+      for (double& q : q2) q += 0.5 * shift;
+      const Rigid<double> at = relative(c, q1, q2);
+      constexpr double kTurn = 23.0;
+      q1[static_cast<std::size_t>(k.local)] += kTurn;
+      if (same(relative(c, q1, q2), at)) return false;  // k alone does nothing here
+      q2[static_cast<std::size_t>(l.local)] += sign * kTurn;
+      if (!same(relative(c, q1, q2), at)) return false;
+    }
+    return true;
+  };
+  std::vector<GaugePair> out;
+  std::vector<char> paired(static_cast<std::size_t>(n_), 0);
+  for (int k = 0; k < n_; ++k) {
+    const Slot& sk = slots_[static_cast<std::size_t>(k)];
+    const Connection& c = a.connections()[static_cast<std::size_t>(sk.connection)];
+    if (!sk.first || c.closes_cycle || paired[static_cast<std::size_t>(k)] ||
+        spaced[static_cast<std::size_t>(vars_.index[static_cast<std::size_t>(k)])]) {
+      continue;
+    }
+    for (int l = 0; l < n_ && !paired[static_cast<std::size_t>(k)]; ++l) {
+      const Slot& sl = slots_[static_cast<std::size_t>(l)];
+      if (sl.first || sl.connection != sk.connection || paired[static_cast<std::size_t>(l)] ||
+          spaced[static_cast<std::size_t>(vars_.index[static_cast<std::size_t>(l)])]) {
+        continue;
+      }
+      for (double sign : {1.0, -1.0}) {
+        if (!gauge(c, sk, sl, sign)) continue;
+        // x_k + Δ, x_l + sign·Δ is the gauge; in the scaled variables z = x / scale.
+        out.push_back({k, l, 1.0 / sk.scale, sign / sl.scale});
+        paired[static_cast<std::size_t>(k)] = paired[static_cast<std::size_t>(l)] = 1;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
 bool AnalyticEvaluator::exact_lagrangian_hessian(const double* z,
                                                  const std::vector<int>& rows,
                                                  const Eigen::VectorXd& lambda,

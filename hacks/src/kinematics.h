@@ -245,6 +245,9 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
   bool flat_inequality(int i) const override {
     return i >= static_cast<int>(problem_.multi.size());
   }
+  /// The turns on the two sides of a tree connection about one axis (a flexible hook's φ on
+  /// another's): the part frames depend on one combination of them (kinematics.cpp).
+  std::vector<GaugePair> gauge_pairs() const override;
   /// The closures' minimal orientation residuals also vanish at a half turn: refuse those.
   bool acceptable(const double* z) override {
     if (problem_.closures.empty()) return true;

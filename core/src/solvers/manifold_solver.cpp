@@ -20,7 +20,8 @@ ManifoldSolver::ManifoldSolver(ManifoldProblem& problem,
       n_(problem.variables()),
       lo_(std::move(lo)),
       hi_(std::move(hi)),
-      options_(options) {}
+      options_(options),
+      gauge_(problem.gauge_pairs()) {}
 
 bool ManifoldSolver::out_of_time() const {
   return options_.stop && options_.stop->passed();
@@ -95,18 +96,45 @@ void set_motions(const Eigen::MatrixXd& m, ManifoldSolver::Active& act) {
   act.rows_qr = std::move(qr);
 }
 
-// Z·q for a vector or a matrix of motions' coordinates: q below the rank, turned by the
-// reflectors.
+// B·y: the fold's coordinates (rows of y) on `free`.
+template <typename Dense>
+Dense unfold(const ManifoldSolver::Active& act, const Dense& y) {
+  if (act.fold.empty()) return y;
+  Dense out = Dense::Zero(static_cast<Eigen::Index>(act.free.size()), y.cols());
+  for (std::size_t r = 0; r < act.fold.size(); ++r) {
+    const ManifoldSolver::Active::Fold& f = act.fold[r];
+    const auto row = static_cast<Eigen::Index>(r);
+    out.row(f.slot) += f.keep_self * y.row(row);
+    if (f.partner >= 0) out.row(f.partner) += f.keep_partner * y.row(row);
+  }
+  return out;
+}
+
+// m·B: m's columns (on `free`) in the fold's coordinates.
+Eigen::MatrixXd fold_columns(const ManifoldSolver::Active& act, const Eigen::MatrixXd& m) {
+  if (act.fold.empty()) return m;
+  Eigen::MatrixXd out(m.rows(), static_cast<Eigen::Index>(act.fold.size()));
+  for (std::size_t r = 0; r < act.fold.size(); ++r) {
+    const ManifoldSolver::Active::Fold& f = act.fold[r];
+    const auto col = static_cast<Eigen::Index>(r);
+    out.col(col) = f.keep_self * m.col(f.slot);
+    if (f.partner >= 0) out.col(col) += f.keep_partner * m.col(f.partner);
+  }
+  return out;
+}
+
+// B·Z·q for a vector or a matrix of motions' coordinates: q below the rank, turned by the
+// reflectors, unfolded.
 template <typename Dense>
 Dense along_basis(const ManifoldSolver::Active& act, const Dense& q) {
-  if (!act.rows_qr) return q;
-  const int n = static_cast<int>(act.free.size());
+  if (!act.rows_qr) return unfold(act, q);
+  const int n = act.folded();
   Dense out = Dense::Zero(n, q.cols());
   // An empty product would offset a null pointer in Eigen's reflectors (UBSan: undefined).
-  if (act.rank >= n || q.cols() == 0) return out;
+  if (act.rank >= n || q.cols() == 0) return unfold(act, out);
   out.bottomRows(n - act.rank) = q;
   out.applyOnTheLeft(act.rows_qr->householderQ());
-  return out;
+  return unfold(act, out);
 }
 
 }  // namespace
@@ -120,10 +148,13 @@ Eigen::MatrixXd ManifoldSolver::Active::along(const Eigen::MatrixXd& q) const {
 }
 
 Eigen::VectorXd ManifoldSolver::Active::onto(const Eigen::VectorXd& v) const {
-  if (!rows_qr) return v;
-  const int n = static_cast<int>(free.size());
+  // Bᵀ·v: the transpose of a fold is a fold of the row.
+  const Eigen::VectorXd folded_v =
+      fold.empty() ? v : Eigen::VectorXd(fold_columns(*this, v.transpose()).transpose());
+  if (!rows_qr) return folded_v;
+  const int n = folded();
   if (rank >= n) return Eigen::VectorXd(0);
-  Eigen::VectorXd turned = v;
+  Eigen::VectorXd turned = folded_v;
   turned.applyOnTheLeft(rows_qr->householderQ().adjoint());
   return turned.tail(n - rank);
 }
@@ -140,7 +171,12 @@ Eigen::MatrixXd ManifoldSolver::null_space(const Eigen::MatrixXd& m) {
   return act.basis();
 }
 
-Eigen::MatrixXd ManifoldSolver::reduced(const Active& act, const Eigen::MatrixXd& m) {
+Eigen::MatrixXd ManifoldSolver::reduced(const Active& act, const Eigen::MatrixXd& unfolded) {
+  // Bᵀ·m·B, m symmetric: (m·B)ᵀ·B.
+  const Eigen::MatrixXd m =
+      act.fold.empty() ? unfolded
+                       : Eigen::MatrixXd(fold_columns(
+                             act, Eigen::MatrixXd(fold_columns(act, unfolded).transpose())));
   if (!act.rows_qr) return m;
   // Zᵀ·m·Z is the trailing block of Qᵀ·m·Q, and Q is one reflector per kept row: applied to
   // both sides it costs O(n²·rows) where the products with the explicit Z cost 2n³ (on a
@@ -153,7 +189,8 @@ Eigen::MatrixXd ManifoldSolver::reduced(const Active& act, const Eigen::MatrixXd
   return full.bottomRightCorner(k, k);
 }
 
-Eigen::MatrixXd ManifoldSolver::along_motions(const Active& act, const Eigen::MatrixXd& m) {
+Eigen::MatrixXd ManifoldSolver::along_motions(const Active& act, const Eigen::MatrixXd& unfolded) {
+  const Eigen::MatrixXd m = fold_columns(act, unfolded);
   if (!act.rows_qr) return m;  // Z is the identity: no product (n² per row for nothing)
   const int k = static_cast<int>(m.cols()) - act.rank;
   if (k <= 0) return Eigen::MatrixXd(m.rows(), 0);
@@ -233,6 +270,48 @@ Eigen::VectorXd ManifoldSolver::least_squares_multipliers(const Eigen::MatrixXd&
   return cod.solve(gradient);
 }
 
+void ManifoldSolver::set_basis(const Eigen::MatrixXd& rows, Active& act) const {
+  act.fold.clear();
+  act.rows_qr.reset();
+  act.rank = 0;
+  const int nf = static_cast<int>(act.free.size());
+  if (!gauge_.empty() && nf >= options_.fold_gauge_from) {
+    std::vector<int> slot_of(static_cast<std::size_t>(n_), -1);
+    for (int i = 0; i < nf; ++i)
+      slot_of[static_cast<std::size_t>(act.free[static_cast<std::size_t>(i)])] = i;
+    std::vector<Active::Fold> by_slot(static_cast<std::size_t>(nf));
+    std::vector<char> dropped(static_cast<std::size_t>(nf), 0);
+    bool any = false;
+    for (int i = 0; i < nf; ++i) by_slot[static_cast<std::size_t>(i)].slot = i;
+    for (const ManifoldProblem::GaugePair& g : gauge_) {
+      const int sa = slot_of[static_cast<std::size_t>(g.a)];
+      const int sb = slot_of[static_cast<std::size_t>(g.b)];
+      if (sa < 0 || sb < 0) continue;  // one of them held at a bound: no gauge left
+      Active::Fold& f = by_slot[static_cast<std::size_t>(sa)];
+      if (f.partner >= 0 || dropped[static_cast<std::size_t>(sa)] ||
+          dropped[static_cast<std::size_t>(sb)] ||
+          by_slot[static_cast<std::size_t>(sb)].partner >= 0) {
+        continue;
+      }
+      // The kept direction is the null direction turned a quarter turn in the pair's plane.
+      const double norm = std::hypot(g.null_a, g.null_b);
+      if (!(norm > 0)) continue;
+      f.partner = sb;
+      f.keep_self = g.null_b / norm;
+      f.keep_partner = -g.null_a / norm;
+      dropped[static_cast<std::size_t>(sb)] = 1;
+      any = true;
+    }
+    if (any) {
+      for (int i = 0; i < nf; ++i) {
+        if (!dropped[static_cast<std::size_t>(i)])
+          act.fold.push_back(by_slot[static_cast<std::size_t>(i)]);
+      }
+    }
+  }
+  set_motions(fold_columns(act, rows), act);
+}
+
 ManifoldSolver::Active ManifoldSolver::active_set(const Point& p) const {
   Active act;
   const std::vector<int> off = off_bounds(p);
@@ -256,7 +335,7 @@ ManifoldSolver::Active ManifoldSolver::active_set(const Point& p) const {
     const int side = at_bound(p.z, k);
     if (side == 0 || side * reduced[k] > options_.gradient_tolerance) act.free.push_back(k);
   }
-  set_motions(columns(J, act.free), act);
+  set_basis(columns(J, act.free), act);
   return act;
 }
 
@@ -589,13 +668,11 @@ ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
   if (act.motions() == 0 || no_time_for(newton_cost(act.motions(), {}))) return c;
   const Eigen::MatrixXd full = lagrangian_hessian(p, act);
   if (out_of_time()) return c;  // incomplete: no curvature is reported
-  const bool unconstrained = act.rows.empty();
   Eigen::MatrixXd H = reduced(act, full);
   H = 0.5 * (H + H.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
   c.eigenvalues = eig.eigenvalues();
-  const Eigen::MatrixXd local =
-      unconstrained ? eig.eigenvectors() : act.along(Eigen::MatrixXd(eig.eigenvectors()));
+  const Eigen::MatrixXd local = act.along(Eigen::MatrixXd(eig.eigenvectors()));
   c.directions = Eigen::MatrixXd::Zero(n_, local.cols());
   for (std::size_t i = 0; i < act.free.size(); ++i) {
     c.directions.row(act.free[i]) = local.row(static_cast<int>(i));
@@ -698,9 +775,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
         }
         if (kept.size() != act.free.size()) {
           act.free = std::move(kept);
-          act.rows_qr.reset();
-          act.rank = 0;
-          set_motions(columns(row_subset(cur.J, act.rows), act.free), act);
+          set_basis(columns(row_subset(cur.J, act.rows), act.free), act);
         }
         std::fill(was_free.begin(), was_free.end(), 0);
         for (int k : act.free) was_free[static_cast<std::size_t>(k)] = 1;

@@ -59,6 +59,15 @@ class ManifoldProblem {
     (void)i;
     return false;
   }
+  /// Two variables the problem depends on only through one combination of them: every row is
+  /// the same at z and at z + t·(null_a·e_a + null_b·e_b) for every t (two turns about one
+  /// axis, one on each side of a joint). Large models leave these directions out
+  /// (ManifoldSolverOptions::fold_gauge_from). Each variable is in one pair at most.
+  struct GaugePair {
+    int a = 0, b = 0;
+    double null_a = 0, null_b = 0;
+  };
+  virtual std::vector<GaugePair> gauge_pairs() const { return {}; }
   /// The Hessian (variables × variables) at z of the Lagrangian f − Σ λₖ·row(rowsₖ), if the
   /// problem knows it exactly; false to let the solver difference the gradient instead (one
   /// evaluation per variable). Rows are numbered among the constraints: equality e is e,
@@ -97,6 +106,11 @@ struct ManifoldSolverOptions {
   double max_step = 50;
   /// Escapes from stationary points that are not minima, before giving up.
   int max_escapes = 20;
+  /// From this many free coordinates, each gauge pair (ManifoldProblem::gauge_pairs) whose two
+  /// variables are both free is one motion: the models leave its null direction out, which
+  /// no step moves along anyway, and their eigendecompositions cost the cube of their size
+  /// (a 64-hook chain: 63 pairs of 260 coordinates). Below, the models are as they were.
+  int fold_gauge_from = 64;
   /// Stop by this deadline (servers, time limits), shared with the rest of the caller's work.
   /// An iteration that would end past it (judged by what the last ones cost) is not started,
   /// and the deadline is called. None: no limit.
@@ -129,15 +143,29 @@ class ManifoldSolver {
     /// No rows kept: Z is the identity and rows_qr is empty.
     std::shared_ptr<const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>> rows_qr;
     int rank = 0;
+    /// The gauge pairs folded (large models): column r of the fold B is
+    /// keep_self·e(slot) + keep_partner·e(partner) on `free` (partner −1: the coordinate
+    /// alone), orthonormal. Empty: B is the identity. Z is a basis in B's coordinates, so a
+    /// motion on `free` is B·Z·q.
+    struct Fold {
+      int slot = 0;
+      int partner = -1;
+      double keep_self = 1, keep_partner = 0;
+    };
+    std::vector<Fold> fold;
+    /// B's columns.
+    int folded() const {
+      return fold.empty() ? static_cast<int>(free.size()) : static_cast<int>(fold.size());
+    }
     /// How many motions are allowed: Z's columns.
-    int motions() const { return static_cast<int>(free.size()) - (rows_qr ? rank : 0); }
-    /// Z·q: the motion with coordinates q, on `free`.
+    int motions() const { return folded() - (rows_qr ? rank : 0); }
+    /// B·Z·q: the motion with coordinates q, on `free`.
     Eigen::VectorXd along(const Eigen::VectorXd& q) const;
-    /// Z·Q for a matrix of motions' coordinates (one column each).
+    /// B·Z·Q for a matrix of motions' coordinates (one column each).
     Eigen::MatrixXd along(const Eigen::MatrixXd& q) const;
-    /// Zᵀ·v: v (on `free`) in the motions' coordinates.
+    /// Zᵀ·Bᵀ·v: v (on `free`) in the motions' coordinates.
     Eigen::VectorXd onto(const Eigen::VectorXd& v) const;
-    /// Z itself (free × motions), formed column by column.
+    /// B·Z itself (free × motions), formed column by column.
     Eigen::MatrixXd basis() const;
   };
   struct Result {
@@ -189,9 +217,9 @@ class ManifoldSolver {
   int at_bound(const Eigen::VectorXd& z, int k) const;
   /// Hessian of f − λᵀh on the free coordinates (finite differences of exact gradients).
   Eigen::MatrixXd lagrangian_hessian(const Point& p, const Active& act);
-  /// Zᵀ·m·Z for the allowed motions' basis Z (m itself when Z is the identity).
+  /// (BZ)ᵀ·m·(BZ) for the allowed motions' basis BZ (m itself when it is the identity).
   static Eigen::MatrixXd reduced(const Active& act, const Eigen::MatrixXd& m);
-  /// m·Z (m itself when Z is the identity).
+  /// m·B·Z (m itself when BZ is the identity).
   static Eigen::MatrixXd along_motions(const Active& act, const Eigen::MatrixXd& m);
   /// Minimum-norm Gauss-Newton back onto h = 0, moving only coordinates off their bounds.
   bool project(Point& p);
@@ -223,6 +251,9 @@ class ManifoldSolver {
   /// called: out_of_time() holds from then on).
   bool no_time_for(std::chrono::steady_clock::duration cost) const;
   Point step(const Point& from, const Active& act, const Eigen::VectorXd& dF);
+  /// The fold of act.free (large models) and the basis of the motions `rows` (the kept
+  /// constraint rows on act.free) allow.
+  void set_basis(const Eigen::MatrixXd& rows, Active& act) const;
   /// relax(); with `small_curvatures`, curvatures below the neutral threshold keep their value
   /// where the objective slopes along them (fit()'s Newton finish) instead of counting as 0.
   Result newton(const Eigen::VectorXd& z0, int max_iterations, bool small_curvatures);
@@ -236,6 +267,7 @@ class ManifoldSolver {
   int n_;
   Eigen::VectorXd lo_, hi_;
   ManifoldSolverOptions options_;
+  std::vector<ManifoldProblem::GaugePair> gauge_;
   std::vector<double> values_, jacobian_;
 };
 
