@@ -40,29 +40,42 @@ class ConstrainedQuadratic : public ManifoldProblem {
   Eigen::VectorXd b_;
 };
 
+// A random positive definite A, b, and the minimum of ½ zᵀAz − bᵀz subject to Σ z = 1 (the
+// Lagrange conditions A z − b = λ·1 and Σ z = 1).
+struct RandomQuadratic {
+  Eigen::MatrixXd a;
+  Eigen::VectorXd b, minimum;
+};
+
+RandomQuadratic random_quadratic(int n, std::mt19937& rng) {
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd m(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) m(i, j) = normal(rng);
+  RandomQuadratic q;
+  q.a = m * m.transpose() / n + Eigen::MatrixXd::Identity(n, n);
+  q.b.resize(n);
+  for (int i = 0; i < n; ++i) q.b[i] = 10 * normal(rng);
+  Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(n + 1, n + 1);
+  kkt.topLeftCorner(n, n) = q.a;
+  kkt.topRightCorner(n, 1).setOnes();
+  kkt.bottomLeftCorner(1, n).setOnes();
+  Eigen::VectorXd rhs(n + 1);
+  rhs << q.b, 1;
+  q.minimum = kkt.fullPivLu().solve(rhs).head(n);
+  return q;
+}
+
 // 40 variables: the eigenbasis formed; 120: factored (Eigenbasis::kFactoredFrom).
 class ConstrainedQuadraticOf : public testing::TestWithParam<int> {};
 
 TEST_P(ConstrainedQuadraticOf, RelaxReachesItsMinimum) {
   const int n = GetParam();
   std::mt19937 rng(7);
-  std::normal_distribution<double> normal;
-  Eigen::MatrixXd m(n, n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) m(i, j) = normal(rng);
-  const Eigen::MatrixXd a = m * m.transpose() / n + Eigen::MatrixXd::Identity(n, n);
-  Eigen::VectorXd b(n);
-  for (int i = 0; i < n; ++i) b[i] = 10 * normal(rng);
-  // The Lagrange conditions: A z − b = λ·1 and Σ z = 1.
-  Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(n + 1, n + 1);
-  kkt.topLeftCorner(n, n) = a;
-  kkt.topRightCorner(n, 1).setOnes();
-  kkt.bottomLeftCorner(1, n).setOnes();
-  Eigen::VectorXd rhs(n + 1);
-  rhs << b, 1;
-  const Eigen::VectorXd expected = kkt.fullPivLu().solve(rhs).head(n);
+  const RandomQuadratic q = random_quadratic(n, rng);
+  const Eigen::VectorXd& expected = q.minimum;
 
-  ConstrainedQuadratic problem(a, b);
+  ConstrainedQuadratic problem(q.a, q.b);
   const double inf = std::numeric_limits<double>::infinity();
   ManifoldSolver solver(
       problem, Eigen::VectorXd::Constant(n, -inf), Eigen::VectorXd::Constant(n, inf));
@@ -118,21 +131,10 @@ TEST(ManifoldSolver, GaugePairsFoldedRestWhereTheyRestUnfolded) {
   constexpr int m = 45;  // 90 variables
   std::mt19937 rng(17);
   std::normal_distribution<double> normal;
-  Eigen::MatrixXd g(m, m);
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j < m; ++j) g(i, j) = normal(rng);
-  const Eigen::MatrixXd a = g * g.transpose() / m + Eigen::MatrixXd::Identity(m, m);
-  Eigen::VectorXd b(m);
-  for (int i = 0; i < m; ++i) b[i] = 10 * normal(rng);
-  Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(m + 1, m + 1);
-  kkt.topLeftCorner(m, m) = a;
-  kkt.topRightCorner(m, 1).setOnes();
-  kkt.bottomLeftCorner(1, m).setOnes();
-  Eigen::VectorXd rhs(m + 1);
-  rhs << b, 1;
-  const Eigen::VectorXd expected = kkt.fullPivLu().solve(rhs).head(m);
+  const RandomQuadratic q = random_quadratic(m, rng);
+  const Eigen::VectorXd& expected = q.minimum;
 
-  GaugeQuadratic problem(a, b);
+  GaugeQuadratic problem(q.a, q.b);
   Eigen::VectorXd start(2 * m);
   for (int i = 0; i < 2 * m; ++i) start[i] = 0.3 * normal(rng);
   // Closed: Σ u = 1.
