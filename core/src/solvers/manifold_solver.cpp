@@ -358,8 +358,10 @@ ManifoldSolver::Point ManifoldSolver::evaluate_rows(const Eigen::VectorXd& z,
   const int m = problem_.equalities();
   const int ni = problem_.inequalities();
   const int total = no + m + ni;
-  values_.assign(static_cast<std::size_t>(total), 0.0);
-  jacobian_.assign(static_cast<std::size_t>(total) * static_cast<std::size_t>(n_), 0.0);
+  // Reused, not cleared: the problem writes every entry (ManifoldProblem::evaluate). Clearing
+  // them was a fifth of a 128-hook chain's time, its contact rows spanning 516 coordinates.
+  values_.resize(static_cast<std::size_t>(total));
+  jacobian_.resize(static_cast<std::size_t>(total) * static_cast<std::size_t>(n_));
   if (slopes_only) {
     problem_.evaluate_slopes(z.data(), values_.data(), jacobian_.data());
   } else {

@@ -35,7 +35,8 @@ class ManifoldProblem {
   virtual int objectives() const = 0;
   virtual int equalities() const = 0;
   virtual int inequalities() const = 0;
-  /// Values of every row and the row-major Jacobian (rows × variables) at z.
+  /// Values of every row and the row-major Jacobian (rows × variables) at z: every entry is
+  /// written (the solver reuses its buffers without clearing them).
   virtual void evaluate(const double* z, double* values, double* jacobian) = 0;
   /// As evaluate(), for differencing the Hessian: of what it fills only the objective rows'
   /// values and the Jacobian rows of the objective, the equalities and the inequalities that
