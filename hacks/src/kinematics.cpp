@@ -119,21 +119,25 @@ std::vector<solvers::ManifoldProblem::GaugePair> AnalyticEvaluator::gauge_pairs(
     }
     return true;
   };
+  // The second side's variables of each connection, for the first side's to pair with.
+  std::vector<std::vector<int>> second_side(a.connections().size());
+  for (int l = 0; l < n_; ++l) {
+    const Slot& sl = slots_[static_cast<std::size_t>(l)];
+    if (!sl.first) second_side[static_cast<std::size_t>(sl.connection)].push_back(l);
+  }
   std::vector<GaugePair> out;
   std::vector<char> paired(static_cast<std::size_t>(n_), 0);
+  auto free_to_pair = [&](int v) {
+    return !paired[static_cast<std::size_t>(v)] &&
+           !spaced[static_cast<std::size_t>(vars_.index[static_cast<std::size_t>(v)])];
+  };
   for (int k = 0; k < n_; ++k) {
     const Slot& sk = slots_[static_cast<std::size_t>(k)];
     const Connection& c = a.connections()[static_cast<std::size_t>(sk.connection)];
-    if (!sk.first || c.closes_cycle || paired[static_cast<std::size_t>(k)] ||
-        spaced[static_cast<std::size_t>(vars_.index[static_cast<std::size_t>(k)])]) {
-      continue;
-    }
-    for (int l = 0; l < n_ && !paired[static_cast<std::size_t>(k)]; ++l) {
+    if (!sk.first || c.closes_cycle || !free_to_pair(k)) continue;
+    for (int l : second_side[static_cast<std::size_t>(sk.connection)]) {
+      if (paired[static_cast<std::size_t>(k)] || !free_to_pair(l)) continue;
       const Slot& sl = slots_[static_cast<std::size_t>(l)];
-      if (sl.first || sl.connection != sk.connection || paired[static_cast<std::size_t>(l)] ||
-          spaced[static_cast<std::size_t>(vars_.index[static_cast<std::size_t>(l)])]) {
-        continue;
-      }
       for (double sign : {1.0, -1.0}) {
         if (!gauge(c, sk, sl, sign)) continue;
         // x_k + Δ, x_l + sign·Δ is the gauge; in the scaled variables z = x / scale.

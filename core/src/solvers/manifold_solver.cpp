@@ -20,8 +20,7 @@ ManifoldSolver::ManifoldSolver(ManifoldProblem& problem,
       n_(problem.variables()),
       lo_(std::move(lo)),
       hi_(std::move(hi)),
-      options_(options),
-      gauge_(problem.gauge_pairs()) {}
+      options_(options) {}
 
 bool ManifoldSolver::out_of_time() const {
   return options_.stop && options_.stop->passed();
@@ -275,7 +274,8 @@ void ManifoldSolver::set_basis(const Eigen::MatrixXd& rows, Active& act) const {
   act.rows_qr.reset();
   act.rank = 0;
   const int nf = static_cast<int>(act.free.size());
-  if (!gauge_.empty() && nf >= options_.fold_gauge_from) {
+  if (nf >= options_.fold_gauge_from && !gauge_) gauge_ = problem_.gauge_pairs();
+  if (nf >= options_.fold_gauge_from && !gauge_->empty()) {
     std::vector<int> slot_of(static_cast<std::size_t>(n_), -1);
     for (int i = 0; i < nf; ++i)
       slot_of[static_cast<std::size_t>(act.free[static_cast<std::size_t>(i)])] = i;
@@ -283,7 +283,7 @@ void ManifoldSolver::set_basis(const Eigen::MatrixXd& rows, Active& act) const {
     std::vector<char> dropped(static_cast<std::size_t>(nf), 0);
     bool any = false;
     for (int i = 0; i < nf; ++i) by_slot[static_cast<std::size_t>(i)].slot = i;
-    for (const ManifoldProblem::GaugePair& g : gauge_) {
+    for (const ManifoldProblem::GaugePair& g : *gauge_) {
       const int sa = slot_of[static_cast<std::size_t>(g.a)];
       const int sb = slot_of[static_cast<std::size_t>(g.b)];
       if (sa < 0 || sb < 0) continue;  // one of them held at a bound: no gauge left

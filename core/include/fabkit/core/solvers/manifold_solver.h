@@ -268,7 +268,8 @@ class ManifoldSolver {
   int n_;
   Eigen::VectorXd lo_, hi_;
   ManifoldSolverOptions options_;
-  std::vector<ManifoldProblem::GaugePair> gauge_;
+  /// The problem's gauge pairs, asked for when a model first is large enough to fold them.
+  mutable std::optional<std::vector<ManifoldProblem::GaugePair>> gauge_;
   std::vector<double> values_, jacobian_;
 };
 
