@@ -252,9 +252,9 @@ class ManifoldSolver {
   /// called: out_of_time() holds from then on).
   bool no_time_for(std::chrono::steady_clock::duration cost) const;
   Point step(const Point& from, const Active& act, const Eigen::VectorXd& dF);
-  /// The fold of act.free (large models) and the basis of the motions `rows` (the kept
+  /// The fold of act.free (large models) and the basis of the motions `kept_rows` (the kept
   /// constraint rows on act.free) allow.
-  void set_basis(const Eigen::MatrixXd& rows, Active& act) const;
+  void set_basis(const Eigen::MatrixXd& kept_rows, Active& act) const;
   /// relax(); with `small_curvatures`, curvatures below the neutral threshold keep their value
   /// where the objective slopes along them (fit()'s Newton finish) instead of counting as 0.
   Result newton(const Eigen::VectorXd& z0, int max_iterations, bool small_curvatures);
