@@ -219,29 +219,26 @@ StepResult run_step2(Problem& p,
       // for — it comes to rest against it, as built — and is unfolded only if they fail.
       const Overlap at = deepest_overlap(q, current->x, !environment);
       if (at.depth <= kPenetrationToleranceMm) break;
-      std::vector<double> x = current->x;
-      bool redrawn = false;
+      // The variables of the joints next to the overlap, each side of each.
+      std::vector<int> redraw;
       for (ConnectionId c : joints_between(
                a, PartId{at.pair.part_a}, PartId{at.pair.part_b}, kUnfoldJointsPerSide)) {
         const Connection& conn = a.connection(c);
         for (const Connector* side : {&conn.first, &conn.second}) {
           for (std::size_t i = 0; i < side->params.size(); ++i) {
-            const auto index = static_cast<std::size_t>(side->offset) + i;
-            if (!is_variable[index]) continue;
-            const ParamSpec& s = a.parameters()[index].spec;
-            x[index] = drawn_value(
-                x[index],
-                keyed_uniform(o.seed,
-                              kUnfoldStream + (environment ? kUnfoldTries : 0) + attempt,
-                              (*q.parameter_keys)[index]),
-                s.lo,
-                s.hi,
-                s.tag == ParamTag::kUnbounded);
-            redrawn = true;
+            const int index = side->offset + static_cast<int>(i);
+            if (is_variable[static_cast<std::size_t>(index)]) redraw.push_back(index);
           }
         }
       }
-      if (!redrawn) break;
+      if (redraw.empty()) break;
+      std::vector<double> x = current->x;
+      draw_keyed(q,
+                 redraw,
+                 o.seed,
+                 kUnfoldStream + (environment ? kUnfoldTries : 0) + attempt,
+                 /*unbounded_only=*/false,
+                 x);
       if (q.unfold_tries) {
         if (*q.unfold_tries <= 0) break;
         --*q.unfold_tries;
