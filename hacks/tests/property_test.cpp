@@ -157,20 +157,32 @@ TEST(Properties, AnalyticDerivativesMatchFiniteDifferencesOnRandomConfigurations
 
 // The exact Hessian of step 2's Lagrangian (the potential's, the closures' rows, and the held
 // target's rows when settling) and of step 1's least squares against central differences of its
-// exact gradient, on random configurations of every gallery design and of a long S-hook chain
-// (connections of several kinds, branches, cycles, targets with and without symmetry).
+// exact gradient, on random configurations of every gallery design and of two long S-hook
+// chains (connections of several kinds, branches, cycles, targets with and without symmetry).
+// The 18-hook chain with a mug as its target has 76 variables: models that large compute each
+// pair of variables once and mirror it (kinematics.cpp, kHalfHessianFrom).
 TEST(Properties, AnalyticHessianMatchesFiniteDifferencesOnRandomConfigurations) {
   std::mt19937_64 rng(23);
   std::vector<Design> designs;
   for (const char* name : kGallery) designs.push_back(load_example(name));
-  std::string chain =
-      "fabkit: hacks/1\nenvironment:\n  - {name: bar, primitives: {rod: {type: rod, radius: 4, "
-      "length: 300}}, frame: {pos: [0, 0, 2000], rot: [90, 0, 0]}}\nparts:\n";
-  for (int i = 0; i < 12; ++i) chain += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
-  chain += "connections:\n  - connect: [s0.hook1, bar.rod]\n";
-  for (int i = 1; i < 12; ++i)
-    chain += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
-  designs.push_back(testing::load_text(chain));
+  auto chain = [](int hooks, bool mug_target) {
+    std::string s =
+        "fabkit: hacks/1\nenvironment:\n  - {name: bar, primitives: {rod: {type: rod, radius: "
+        "4, length: 300}}, frame: {pos: [0, 0, 4000], rot: [90, 0, 0]}}\nparts:\n";
+    for (int i = 0; i < hooks; ++i) s += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
+    if (mug_target) {
+      s += "target: {name: mug, part: Mug, primitive: hook, frame: {pos: [30, 0, 2500], rot: [0, "
+           "0, 0]}}\n";
+    }
+    s += "connections:\n  - connect: [s0.hook1, bar.rod]\n";
+    for (int i = 1; i < hooks; ++i)
+      s += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
+    if (mug_target) s += fmt::format("  - connect: [mug.hook, s{}.hook2]\n", hooks - 1);
+    return s;
+  };
+  designs.push_back(testing::load_text(chain(12, false)));
+  designs.push_back(testing::load_text(chain(18, true)));
+  ASSERT_GE(designs.back().assembly.parameter_count(), 64);
   for (const Design& d : designs) {
     ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
     for (int trial = 0; trial < 5; ++trial) {
