@@ -37,13 +37,6 @@ void print_steps(const Design& design) {
       outcome = "skipped";
     } else if (!step.accepted) {
       outcome = "REJECTED";
-    } else if (step.closed_in_canonical_order) {
-      outcome = fmt::format(
-          "ok in the canonical order of the connects, which closes cycle {} (in this order {} "
-          "start{} missed)",
-          step.report.cycles.empty() ? "" : step.report.cycles.front(),
-          step.report.starts_used,
-          step.report.starts_used == 1 ? "" : "s");
     } else if (step.report.closes_cycle) {
       outcome = fmt::format("ok, closes cycle {} ({} start{}, {:.1f} ms)",
                             step.report.cycles.empty() ? "" : step.report.cycles.front(),

@@ -809,10 +809,11 @@ Assembly Assembly::in_canonical_order(
 }
 
 std::optional<Assembly> Assembly::verified_in_canonical_order(
-    std::optional<std::chrono::steady_clock::time_point> deadline) const {
+    std::optional<std::chrono::steady_clock::time_point> deadline,
+    std::vector<ConnectReport>* reports) const {
   const std::vector<CanonicalConnect> order = canonical_connect_order();
   if (order.size() != connects_made_.size()) return std::nullopt;  // cannot happen (see there)
-  return made_in(order, deadline);
+  return made_in(order, deadline, reports);
 }
 
 bool Assembly::only_closure_misses(const Diagnostics& why) {
@@ -837,7 +838,9 @@ std::optional<Assembly> Assembly::closed_in_canonical_order(
 
 std::optional<Assembly> Assembly::made_in(
     const std::vector<CanonicalConnect>& order,
-    std::optional<std::chrono::steady_clock::time_point> deadline) const {
+    std::optional<std::chrono::steady_clock::time_point> deadline,
+    std::vector<ConnectReport>* reports) const {
+  if (reports) reports->assign(connects_made_.size(), ConnectReport{});
   Assembly out;
   for (const AddCall& a : adds_) {
     const ConnectReport r =
@@ -849,9 +852,9 @@ std::optional<Assembly> Assembly::made_in(
     ConnectOptions o = c.options;
     o.verify.deadline = deadline;  // the one the connect was made under may be long past
     o.verify.close_cycles = true;
-    const bool made =
-        k.swapped ? out.connect(c.b, c.a, o).accepted : out.connect(c.a, c.b, o).accepted;
-    if (!made) return std::nullopt;
+    ConnectReport r = k.swapped ? out.connect(c.b, c.a, o) : out.connect(c.a, c.b, o);
+    if (!r.accepted) return std::nullopt;
+    if (reports) (*reports)[k.index] = std::move(r);
   }
   if (target_ &&
       out.end_with(PrimitiveRef(target_->part, target_->primitive), target_->frame).has_errors()) {

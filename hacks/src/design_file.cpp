@@ -38,6 +38,26 @@ class Reader {
   }
 
  private:
+  struct EnvDecl {
+    std::string name;
+    std::shared_ptr<Part> part;
+    Frame frame;
+    SourceLocation where;
+  };
+  struct ConnectDecl {
+    PrimitiveRef a, b;
+    std::string text_a, text_b, name_a, name_b;
+    ConnectOptions options;
+    SourceLocation where;
+  };
+  struct TargetDecl {
+    std::shared_ptr<Part> part;
+    PrimitiveId primitive;
+    Frame frame;
+    std::string label;
+    SourceLocation where;
+  };
+
   void build(std::string_view text, Design& design) {
     const auto parsed = in_.parse_mapping(
         text, "environment, parts, connections and target (docs/design-format.md)");
@@ -157,6 +177,48 @@ class Reader {
     if (diags_.has_errors()) return;  // input errors: build nothing
     design.readable = true;
 
+    // Each cycle's closure search is most of the verification, and the design is solved in the
+    // canonical order of its connects whatever the file's: the connects are made in the file's
+    // order with their cycles left open (every other check still runs there, with the file's
+    // lines), then once in the canonical order with the closure searches. Only where that does
+    // not verify is everything made again in the file's order with closures, for the messages
+    // the file's order gives.
+    const Assembly unbuilt = design.assembly;
+    const Diagnostics before = diags_;
+    std::set<const Part*> missing;  // parts whose introducing connect failed
+    bool stopped = false;
+    if (!make_steps(
+            design, environments, connects, tdecl, /*defer_closures=*/true, missing, stopped)) {
+      design.assembly = unbuilt;
+      design.steps.clear();
+      diags_ = before;
+      missing.clear();
+      stopped = false;
+      make_steps(design, environments, connects, tdecl, /*defer_closures=*/false, missing, stopped);
+    }
+    for (const auto& [name, part] : design.parts) {
+      if (stopped) break;  // unverified connects: "never connected" would be wrong
+      if (!design.assembly.find(part.get()) && !missing.count(part.get())) {
+        diags_.warning(codes::kNotConnected,
+                       fmt::format("part {} is declared but never connected", name),
+                       declared_at_[name]);
+      }
+    }
+  }
+
+  // The design's adds, connects and end_with, as steps (design.steps). With `defer_closures`,
+  // the connects are made with their cycles open and then every connect again in the canonical
+  // order with the closure searches (Assembly::verified_in_canonical_order), each step getting
+  // its connect's report from there; false (the steps and diagnostics left for the caller to
+  // discard) where anything fails that way. Without it, each connect verifies as the file
+  // makes it, and the design is what that gives; true.
+  bool make_steps(Design& design,
+                  const std::vector<EnvDecl>& environments,
+                  const std::vector<ConnectDecl>& connects,
+                  const TargetDecl& tdecl,
+                  bool defer_closures,
+                  std::set<const Part*>& missing,
+                  bool& stopped) {
     for (const EnvDecl& e : environments) {
       DesignStep step;
       step.kind = DesignStep::Kind::kAdd;
@@ -167,11 +229,9 @@ class Reader {
       diags_.append(step.report.diagnostics);
       design.steps.push_back(std::move(step));
     }
-    std::set<const Part*> missing;  // parts whose introducing connect failed
     const auto& deadline = options_.verify.deadline;
     auto past_deadline = [&] { return deadline && std::chrono::steady_clock::now() > *deadline; };
     std::size_t verified = 0;
-    bool stopped = false;
     for (const ConnectDecl& c : connects) {
       if (past_deadline()) {
         stop_at_deadline(design, connects, verified, c.where);
@@ -203,7 +263,9 @@ class Reader {
         design.steps.push_back(std::move(step));
         continue;
       }
-      step.report = design.assembly.connect(c.a, c.b, c.options);
+      ConnectOptions options = c.options;
+      if (defer_closures) options.verify.close_cycles = false;
+      step.report = design.assembly.connect(c.a, c.b, options);
       step.accepted = step.report.accepted;
       if (!step.accepted) mark_cut_by_deadline(step.report, options_.verify);
       if (!step.accepted) {
@@ -233,60 +295,25 @@ class Reader {
       }
       design.steps.push_back(std::move(step));
     }
-    if (!stopped) close_in_canonical_order(design, connects);
-    // Solved in the canonical order of its connects (Assembly::in_canonical_order): the
-    // file's order still decides the verification's messages (design.steps).
-    if (!stopped && !diags_.has_errors()) {
-      design.assembly = design.assembly.in_canonical_order(options_.verify.deadline);
-    }
-    for (const auto& [name, part] : design.parts) {
-      if (stopped) break;  // unverified connects: "never connected" would be wrong
-      if (!design.assembly.find(part.get()) && !missing.count(part.get())) {
-        diags_.warning(codes::kNotConnected,
-                       fmt::format("part {} is declared but never connected", name),
-                       declared_at_[name]);
-      }
-    }
-  }
-
-  // Where the closure search missed a cycle in the file's order of connects and nothing else
-  // went wrong, the connects are made again in the canonical order (a chain between two rods
-  // closes in its middle there, from both rods at once): which order a file lists them in, or
-  // which end of a cycle it builds first, must not decide whether the design holds together.
-  // If they verify that way, the design is that assembly and the misses become notes.
-  template <typename Connects>
-  void close_in_canonical_order(Design& design, const Connects& connects) {
-    if (!Assembly::only_closure_misses(diags_)) return;
-    // One connect step per connect, in the file's order (the verification did not stop).
-    std::vector<Assembly::ConnectRequest> missed;
+    // Verified in the file's order as it went: where the canonical order did not verify, the
+    // design stands (or fails) as the file made it.
+    if (!defer_closures) return true;
+    if (stopped || diags_.has_errors()) return false;
+    std::vector<ConnectReport> reports;
+    std::optional<Assembly> made =
+        design.assembly.verified_in_canonical_order(options_.verify.deadline, &reports);
+    if (!made) return false;
+    design.assembly = std::move(*made);
+    // Each connect's step reports how it verified in the canonical order: a cycle is closed by
+    // the connect that completes it there (a chain between two rods: in its middle).
     std::size_t k = 0;
-    for (const DesignStep& step : design.steps) {
-      if (step.kind != DesignStep::Kind::kConnect) continue;
-      const auto& c = connects.at(k++);
-      if (!step.accepted && !step.skipped) missed.push_back({c.a, c.b, c.options});
-    }
-    std::optional<Assembly> closed =
-        design.assembly.closed_in_canonical_order(missed, options_.verify.deadline);
-    if (!closed) return;
-    design.assembly = std::move(*closed);
-    Diagnostics kept;
-    for (const Diagnostic& d : diags_) {
-      if (d.severity == Severity::kError && d.code == codes::kCycleNotClosable) {
-        kept.note(codes::kCycleNotClosable,
-                  "in the order the file makes its connects, " + d.message +
-                      "; in the canonical order of the connects it closes",
-                  d.where);
-      } else {
-        kept.add(d);
-      }
-    }
-    diags_ = std::move(kept);
     for (DesignStep& step : design.steps) {
-      if (step.kind == DesignStep::Kind::kConnect && !step.accepted && !step.skipped) {
-        step.accepted = true;
-        step.closed_in_canonical_order = true;
-      }
+      if (step.kind != DesignStep::Kind::kConnect) continue;
+      ConnectReport r = std::move(reports.at(k++));
+      r.description = step.report.description;
+      step.report = std::move(r);
     }
+    return true;
   }
 
   // The verification's deadline passed before `where`: the remaining connects are not tried.
@@ -312,26 +339,6 @@ class Reader {
       design.steps.push_back(std::move(step));
     }
   }
-
-  struct EnvDecl {
-    std::string name;
-    std::shared_ptr<Part> part;
-    Frame frame;
-    SourceLocation where;
-  };
-  struct ConnectDecl {
-    PrimitiveRef a, b;
-    std::string text_a, text_b, name_a, name_b;
-    ConnectOptions options;
-    SourceLocation where;
-  };
-  struct TargetDecl {
-    std::shared_ptr<Part> part;
-    PrimitiveId primitive;
-    Frame frame;
-    std::string label;
-    SourceLocation where;
-  };
 
   SourceLocation at(const YAML::Node& n) const { return in_.at(n); }
   void error(DiagnosticCode code, std::string msg, SourceLocation where) {

@@ -256,8 +256,11 @@ class Assembly {
   /// were given (a closure search that missed): this assembly may then have been made with
   /// VerifyOptions::close_cycles off, its cycles open; the result's are closed. A chain between
   /// two rods, for one, is closed in its middle in the canonical order, from both rods at once.
+  /// `reports`, when given, gets each connect's report from the canonical order, one per
+  /// connect in the order they were made here.
   std::optional<Assembly> verified_in_canonical_order(
-      std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
+      std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt,
+      std::vector<ConnectReport>* reports = nullptr) const;
   /// A connect as it was asked for.
   struct ConnectRequest {
     PrimitiveRef a, b;
@@ -307,10 +310,11 @@ class Assembly {
   ConnectionId record_connection(ConnectPlan& plan, const ConnectOptions& options);
   bool verify_closure(ConnectionId id, const ConnectOptions& options, ConnectReport& report);
   /// The adds, every connect in `order` (verified, cycles closed) and the target, made again;
-  /// none if one of them is refused.
-  std::optional<Assembly> made_in(
-      const std::vector<CanonicalConnect>& order,
-      std::optional<std::chrono::steady_clock::time_point> deadline) const;
+  /// none if one of them is refused. `reports` (if given) gets each connect's report at its
+  /// index among connects_made_.
+  std::optional<Assembly> made_in(const std::vector<CanonicalConnect>& order,
+                                  std::optional<std::chrono::steady_clock::time_point> deadline,
+                                  std::vector<ConnectReport>* reports = nullptr) const;
 
   struct PrimitiveState {
     std::vector<double> available;  ///< available critical dimension

@@ -46,10 +46,9 @@ struct DesignStep {
   SourceLocation where;
   bool accepted = false;
   bool skipped = false;  ///< not attempted because an earlier step it depends on failed
-  /// A connect whose cycle the search missed in the file's order and which closed only with
-  /// the connects made again in the canonical order (accepted; `report` is the file order's
-  /// miss).
-  bool closed_in_canonical_order = false;
+  /// How the connect verified: in the canonical order of the connects, which the design is
+  /// made in (a cycle is closed by the connect that completes it there), or in the file's
+  /// order where the canonical one does not verify.
   ConnectReport report;
 };
 
