@@ -106,7 +106,7 @@ endif()
 
 # ---- time limits: check, solve and build of every kit ---------------------------------------
 expect_run(6 "stopped at the deadline after" check ${ex}/hacks/reading_nook.yaml --time-limit 0.001 -q)
-expect_run(6 "stopped at the deadline after" solve ${ex}/hacks/reading_nook.yaml --time-limit 0.12 -q)
+expect_run(6 "stopped at the deadline after" solve ${ex}/hacks/reading_nook.yaml --time-limit 0.05 -q)
 expect_run(6 "stopped at the deadline" build ${ex}/hacks/reading_nook.yaml -o ${tmp}/nook --time-limit 0.001 -q)
 expect_run(6 "stopped at the deadline after" build ${ex}/rods/geodesic_dome.yaml -o ${tmp}/dome --time-limit 0.001 -q)
 expect_run(6 "stopped at the deadline after" check ${ex}/rods/geodesic_dome.yaml --time-limit 0.001 -q)

@@ -302,6 +302,32 @@ class Reader {
     std::vector<ConnectReport> reports;
     std::optional<Assembly> made =
         design.assembly.verified_in_canonical_order(options_.verify.deadline, &reports);
+    if (!made && past_deadline()) {
+      // The deadline cut the closure searches: say how far they got. (The file's order, made
+      // again now, would stop before its first connect and say none was verified.)
+      std::size_t closed = 0;
+      std::optional<SourceLocation> first_open;
+      std::size_t k = 0;
+      for (const DesignStep& step : design.steps) {
+        if (step.kind != DesignStep::Kind::kConnect) continue;
+        if (reports.at(k++).accepted) {
+          ++closed;
+        } else if (!first_open) {
+          first_open = step.where;
+        }
+      }
+      diags_.error(codes::kTimeLimit,
+                   fmt::format("stopped at the deadline after {} iteration{} (connects verified "
+                               "in the canonical order of the connects, which the design is made "
+                               "in, of {}); this connect and the other {} were not verified",
+                               closed,
+                               closed == 1 ? "" : "s",
+                               connects.size(),
+                               connects.size() - closed - 1),
+                   first_open.value_or(SourceLocation{}));
+      stopped = true;
+      return true;
+    }
     if (!made) return false;
     design.assembly = std::move(*made);
     // Each connect's step reports how it verified in the canonical order: a cycle is closed by
