@@ -316,17 +316,20 @@ class Reader {
           first_open = step.where;
         }
       }
-      diags_.error(codes::kTimeLimit,
-                   fmt::format("stopped at the deadline after {} iteration{} (connects verified "
-                               "in the canonical order of the connects, which the design is made "
-                               "in, of {}); this connect and the other {} were not verified",
-                               closed,
-                               closed == 1 ? "" : "s",
-                               connects.size(),
-                               connects.size() - closed - 1),
-                   first_open.value_or(SourceLocation{}));
-      stopped = true;
-      return true;
+      if (first_open) {
+        diags_.error(codes::kTimeLimit,
+                     fmt::format("stopped at the deadline after {} iteration{} (connects verified "
+                                 "in the canonical order of the connects, which the design is "
+                                 "made in, of {}); this connect and the other {} were not "
+                                 "verified",
+                                 closed,
+                                 closed == 1 ? "" : "s",
+                                 connects.size(),
+                                 connects.size() - closed - 1),
+                     *first_open);
+        stopped = true;
+        return true;
+      }
     }
     if (!made) return false;
     design.assembly = std::move(*made);
