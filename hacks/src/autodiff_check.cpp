@@ -2,11 +2,15 @@
 // (Ceres), to check the analytic twist Jacobians of kinematics.h in the tests.
 #include <ceres/ceres.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <memory>
 #include <random>
 
 #include "kinematics.h"
 #include "solve_internal.h"
+#include "steps.h"
 
 namespace fabkit::hacks::detail {
 namespace {
@@ -218,6 +222,40 @@ double target_hessian_mismatch(const Assembly& assembly,
   const Eigen::MatrixXd fd = central_differences(z, h, gradient);
   const double largest = std::max(1e-12, exact.cwiseAbs().maxCoeff());
   return (fd - exact).cwiseAbs().maxCoeff() / largest;
+}
+
+double values_first_mismatch(const Assembly& assembly,
+                             const std::vector<double>& x,
+                             const std::vector<double>& other,
+                             bool target) {
+  Problem p = make_problem(assembly);
+  if (target && !p.target) return 0;
+  p.contacts = std::make_shared<const ContactModel>(assembly);
+  watch_contacts(p, x);
+  const Variables vars = select_variables(assembly, /*physics=*/!target);
+  if (vars.index.empty()) return 0;
+  const Objective o = target ? Objective::kTarget : Objective::kEnergy;
+  AnalyticEvaluator at_once(p, vars, x, o);
+  AnalyticEvaluator values_first(p, vars, x, o);
+  const std::vector<double> z = to_z(vars, x);
+  const std::vector<double> z_other = to_z(vars, other);
+  const auto rows = static_cast<std::size_t>(at_once.objectives() + at_once.equalities() +
+                                             at_once.inequalities());
+  const std::size_t n = z.size();
+  std::vector<double> values(rows), jacobian(rows * n), trial(rows), after(rows),
+      after_jacobian(rows * n);
+  at_once.evaluate(z.data(), values.data(), jacobian.data());
+  values_first.evaluate_values(z_other.data(), trial.data());
+  values_first.evaluate_values(z.data(), trial.data());
+  values_first.evaluate(z.data(), after.data(), after_jacobian.data());
+  double worst = 0;
+  for (std::size_t i = 0; i < rows; ++i) {
+    worst = std::max({worst, std::abs(values[i] - trial[i]), std::abs(values[i] - after[i])});
+  }
+  for (std::size_t i = 0; i < rows * n; ++i) {
+    worst = std::max(worst, std::abs(jacobian[i] - after_jacobian[i]));
+  }
+  return worst;
 }
 
 }  // namespace fabkit::hacks::detail

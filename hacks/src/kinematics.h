@@ -263,6 +263,12 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     std::copy(values_.begin(), values_.end(), values);
     std::copy(jacobian_.begin(), jacobian_.end(), jacobian);
   }
+  /// The values alone (a trial step the solver may reject); the Jacobian at the same z, if
+  /// asked next, reuses them and their distance queries.
+  void evaluate_values(const double* z, double* values) override {
+    evaluate(z, /*contacts=*/true, /*jacobian=*/false);
+    std::copy(values_.begin(), values_.end(), values);
+  }
   /// Without the contact rows (flat, so a differenced Hessian does not read them): their
   /// distance queries were half of a differenced Hessian's cost on the diaper caddy.
   void evaluate_slopes(const double* z, double* values, double* jacobian) override {
@@ -271,22 +277,58 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     std::copy(jacobian_.begin(), jacobian_.end(), jacobian);
   }
 
-  /// Values and Jacobian at z into values_ and jacobian_; without `contacts` the contact rows
-  /// are left 0.
-  void evaluate(const double* z, bool contacts = true) {
-    if (!values_.empty() && std::equal(z, z + n_, last_.begin()) &&
-        (last_has_contacts_ || !contacts)) {
-      return;
-    }
+  /// Values and (with `jacobian`) the Jacobian at z into values_ and jacobian_; without
+  /// `contacts` the contact rows are left 0.
+  void evaluate(const double* z, bool contacts = true, bool jacobian = true) {
+    const bool same_values = !values_.empty() && std::equal(z, z + n_, last_.begin()) &&
+                             (last_has_contacts_ || !contacts);
+    if (same_values && (last_has_jacobian_ || !jacobian)) return;
+    if (!same_values) fill_values(z, contacts);
+    if (jacobian) fill_jacobian();
+  }
+
+  /// The rows' values at z, and what their Jacobian needs of the point (x, frames, the near
+  /// pairs' distance queries) for fill_jacobian().
+  void fill_values(const double* z, bool contacts) {
     last_.assign(z, z + n_);
     last_has_contacts_ = contacts;
+    last_has_jacobian_ = false;
     const Assembly& a = *problem_.assembly;
-    const std::vector<double> x = expand<double>(vars_, base_, z);
+    x_ = expand<double>(vars_, base_, z);
     values_.assign(static_cast<std::size_t>(rows_), 0.0);
+    frames_ = a.all_part_frames<double>(x_.data(), moving_, fixed_frames_);
+    cost_.fill<double>(x_, frames_, values_.data());
+    // Contact rows: −signed distance of each watched pair; pairs whose bounds are apart by
+    // more than kFar need no exact query (their row is far from binding and its slope unused).
+    constexpr double kFar = 2.0;
+    near_.clear();
+    if (contacts && !problem_.watched.empty()) {
+      std::vector<Mat4> mats;
+      mats.reserve(frames_.size());
+      for (const Rigid<double>& f : frames_) mats.push_back(f.matrix());
+      const int first = cost_.contact_row();
+      for (std::size_t i = 0; i < problem_.watched.size(); ++i) {
+        const PiecePair& w = problem_.watched[i];
+        const std::size_t row = static_cast<std::size_t>(first) + i;
+        const double gap = problem_.contacts->gap_bound(w, mats);
+        if (gap > kFar) {
+          values_[row] = -gap;
+          continue;
+        }
+        const collision::Proximity at = problem_.contacts->distance(w, mats);
+        values_[row] = -at.distance;
+        near_.push_back({row, i, at});
+      }
+    }
+  }
+
+  /// The Jacobian at the point fill_values() last evaluated.
+  void fill_jacobian() {
+    last_has_jacobian_ = true;
+    const Assembly& a = *problem_.assembly;
+    const std::vector<double>& x = x_;
+    const std::vector<Rigid<double>>& frames = frames_;
     jacobian_.assign(static_cast<std::size_t>(rows_ * n_), 0.0);
-    const std::vector<Rigid<double>> frames =
-        a.all_part_frames<double>(x.data(), moving_, fixed_frames_);
-    cost_.fill<double>(x, frames, values_.data());
     // What hangs below each tree connection, for the potential's slope.
     std::vector<Vec3> weighted_below;
     if (objective_ != Objective::kTarget) weighted_below = weighted_centres_below(frames);
@@ -307,33 +349,7 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
       }
     }
     const int no = cost_.objective_count();
-    // Contact rows: −signed distance of each watched pair; pairs whose bounds are apart by
-    // more than kFar need no exact query (their row is far from binding and its slope unused).
-    constexpr double kFar = 2.0;
-    struct Near {
-      std::size_t row;
-      const PiecePair* pair;
-      collision::Proximity at;
-    };
-    std::vector<Near> near;
-    if (contacts && !problem_.watched.empty()) {
-      std::vector<Mat4> mats;
-      mats.reserve(frames.size());
-      for (const Rigid<double>& f : frames) mats.push_back(f.matrix());
-      const int first = cost_.contact_row();
-      for (std::size_t i = 0; i < problem_.watched.size(); ++i) {
-        const PiecePair& w = problem_.watched[i];
-        const std::size_t row = static_cast<std::size_t>(first) + i;
-        const double gap = problem_.contacts->gap_bound(w, mats);
-        if (gap > kFar) {
-          values_[row] = -gap;
-          continue;
-        }
-        const collision::Proximity at = problem_.contacts->distance(w, mats);
-        values_[row] = -at.distance;
-        near.push_back({row, &w, at});
-      }
-    }
+    const std::vector<Near>& near = near_;
     std::optional<Rigid<double>> target_frame;
     // Where the target's rows are: the objective (step 1) or after the closures (held).
     const int target_row =
@@ -412,7 +428,7 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     }
     // Contact rows: d(−distance) = −n·(v_b(p_b) − v_a(p_a)), for the tree parameters.
     for (const Near& touch : near) {
-      const PiecePair& w = *touch.pair;
+      const PiecePair& w = problem_.watched[touch.pair];
       double* row = jacobian_.data() + touch.row * static_cast<std::size_t>(n_);
       for (int k = 0; k < n_; ++k) {
         const std::vector<char>* below = contact_below[static_cast<std::size_t>(k)];
@@ -602,6 +618,17 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
   std::vector<Slot> slots_;
   std::vector<double> last_, values_, jacobian_;
   bool last_has_contacts_ = false;  // whether values_ and jacobian_ at last_ have the contact rows
+  bool last_has_jacobian_ = false;  // whether jacobian_ is at last_ (or only values_)
+  // The point fill_values() evaluated last, for fill_jacobian(): the full parameter vector,
+  // every part's frame, and the near pairs' distance queries (row, watched pair, query).
+  struct Near {
+    std::size_t row;
+    std::size_t pair;
+    collision::Proximity at;
+  };
+  std::vector<double> x_;
+  std::vector<Rigid<double>> frames_;
+  std::vector<Near> near_;
   // Per connector side (2 per connection): its local twists at the point being evaluated.
   std::vector<char> twists_ready_;
   std::vector<std::array<Vec3, 3>> twist_w_, twist_v_;

@@ -46,4 +46,15 @@ double target_hessian_mismatch(const Assembly& assembly,
                                std::uint64_t seed = 1,
                                double h = 1e-5);
 
+/// Largest difference between step 2's rows and Jacobian at x evaluated at once and evaluated
+/// the way the solver does a trial step (AnalyticEvaluator::evaluate_values, at `x` after
+/// another point `other`, then the Jacobian at `x` from what that kept), with the pairs of
+/// pieces near each other at x watched as contact rows (as step 2 does); with `target` the rows of
+/// step 1 (the target's residuals) instead. 0 is the only right answer: the solver takes the
+/// values of a trial step and the Jacobian of the same point from the two calls.
+double values_first_mismatch(const Assembly& assembly,
+                             const std::vector<double>& x,
+                             const std::vector<double>& other,
+                             bool target);
+
 }  // namespace fabkit::hacks::detail

@@ -198,6 +198,28 @@ TEST(Properties, AnalyticHessianMatchesFiniteDifferencesOnRandomConfigurations) 
   }
 }
 
+// A trial step is evaluated without its Jacobian, which is filled only for the step the
+// solver keeps, from what the evaluation of its values kept (the distance queries of its
+// contact rows among it): the two calls must give exactly what one evaluation gives, also
+// when the evaluator saw another point in between.
+TEST(Properties, ValuesFirstThenJacobianIsOneEvaluation) {
+  std::mt19937_64 rng(29);
+  for (const char* name : kGallery) {
+    const Design d = load_example(name);
+    ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+    // As built (parts touching where the design puts them), then random configurations.
+    std::vector<double> x = d.assembly.values();
+    for (int trial = 0; trial < 3; ++trial) {
+      const std::vector<double> other = random_parameters(d.assembly, rng);
+      EXPECT_EQ(detail::values_first_mismatch(d.assembly, x, other, false), 0.0)
+          << name << " " << trial;
+      EXPECT_EQ(detail::values_first_mismatch(d.assembly, x, other, true), 0.0)
+          << name << " reaching for its target, " << trial;
+      x = random_parameters(d.assembly, rng);
+    }
+  }
+}
+
 // Everything observable about an assembly, to compare before and after.
 std::string snapshot(const Assembly& a) {
   std::string s;

@@ -410,9 +410,51 @@ ManifoldSolver::Point ManifoldSolver::evaluate_rows(const Eigen::VectorXd& z,
   return p;
 }
 
+ManifoldSolver::Point ManifoldSolver::evaluate_values(const Eigen::VectorXd& z) {
+  Point p;
+  p.z = z;
+  p.complete = false;
+  const int no = problem_.objectives();
+  const int m = problem_.equalities();
+  const int ni = problem_.inequalities();
+  values_.resize(static_cast<std::size_t>(no + m + ni));
+  problem_.evaluate_values(z.data(), values_.data());
+  auto value = [&](int row) { return values_[static_cast<std::size_t>(row)]; };
+  // The rows evaluate_rows() keeps, with the same values.
+  std::vector<int> active;
+  for (int i = 0; i < ni; ++i) {
+    if (value(no + m + i) > -options_.inequality_margin) {
+      active.push_back(no + m + i);
+      p.binding.push_back(i);
+    }
+  }
+  const int rows_total = m + static_cast<int>(active.size());
+  p.h.resize(rows_total);
+  for (int r = 0; r < rows_total; ++r) {
+    const int row = r < m ? no + r : active[static_cast<std::size_t>(r - m)];
+    p.h[r] = r < m ? value(row) : std::max(0.0, value(row));
+  }
+  if (no == 1) {
+    p.f = value(0);
+  } else {
+    p.r.resize(no);
+    for (int i = 0; i < no; ++i) p.r[i] = value(i);
+    p.f = 0.5 * p.r.squaredNorm();
+  }
+  return p;
+}
+
+void ManifoldSolver::complete(Point& p) {
+  if (p.complete) return;
+  const bool valid = p.valid;
+  p = evaluate(p.z);
+  p.valid = valid;
+}
+
 bool ManifoldSolver::project(Point& p) {
   for (int iter = 0; iter < 30; ++iter) {
     if (p.h.size() == 0 || p.h.cwiseAbs().maxCoeff() < options_.feasibility_tolerance) return true;
+    complete(p);
     const std::vector<int> free = off_bounds(p);
     if (free.empty()) return false;
     // Binding contact rows may outnumber the free coordinates and disagree with each other:
@@ -435,7 +477,9 @@ ManifoldSolver::Point ManifoldSolver::step(const Point& from,
                                            const Eigen::VectorXd& dF) {
   Eigen::VectorXd z = from.z;
   for (std::size_t i = 0; i < act.free.size(); ++i) z[act.free[i]] += dF[static_cast<int>(i)];
-  Point trial = evaluate(z.cwiseMax(lo_).cwiseMin(hi_));
+  // Values first: a step the solver rejects never needs its derivatives (the caller completes
+  // the point it keeps).
+  Point trial = evaluate_values(z.cwiseMax(lo_).cwiseMin(hi_));
   trial.valid = project(trial) && problem_.acceptable(trial.z.data());
   return trial;
 }
@@ -636,6 +680,7 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
       Point trial = step(cur, act, act.along(p));
       if (trial.valid && trial.f < cur.f) {
         moved = cur.f - trial.f > 1e-14 * std::max(1.0, cur.f);
+        complete(trial);
         cur = std::move(trial);
         mu = std::max(1e-12, mu / 3);
         if (!moved) break;
@@ -894,6 +939,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     const double resolvable =
         1e3 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(cur.f));
     if (trial.valid && predicted < resolvable) {
+      complete(trial);  // judged by its slope
       const Active next = active_set(trial);
       const double before = rg.cwiseAbs().maxCoeff();
       const double after =
@@ -927,6 +973,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     if (trial.valid && actual > 0 && (rho > 0.1 || binding_changes)) {
       if (lambda_min < 0 && stationary) ++out.escapes;
       note_catches(trial);
+      complete(trial);
       cur = std::move(trial);
       model_current = false;
       accepted = true;

@@ -45,6 +45,14 @@ class ManifoldProblem {
   virtual void evaluate_slopes(const double* z, double* values, double* jacobian) {
     evaluate(z, values, jacobian);
   }
+  /// The values of every row at z alone, as evaluate() writes them (a trial step is judged by
+  /// its values, and its Jacobian is wasted when the step is rejected). The default evaluates
+  /// the Jacobian too; a problem whose Jacobian costs something says otherwise.
+  virtual void evaluate_values(const double* z, double* values) {
+    std::vector<double> jacobian(
+        static_cast<std::size_t>((objectives() + equalities() + inequalities()) * variables()));
+    evaluate(z, values, jacobian.data());
+  }
   /// Whether a point where the equalities hold is really on the manifold the problem means
   /// (equations with spurious solutions, such as minimal orientation residuals that also
   /// vanish at a half turn, say no here).
@@ -131,6 +139,8 @@ class ManifoldSolver {
     Eigen::VectorXd h;         ///< equalities, then the binding inequalities
     Eigen::MatrixXd J;         ///< their Jacobian
     std::vector<int> binding;  ///< which inequalities (0-based) are in h, in order
+    /// Whether g, Jr and J are filled (a trial step is first evaluated without them).
+    bool complete = true;
   };
   /// The motions allowed at a point.
   struct Active {
@@ -247,6 +257,10 @@ class ManifoldSolver {
 
  private:
   Point evaluate_rows(const Eigen::VectorXd& z, const std::vector<int>* binding, bool slopes_only);
+  /// f, r and h at z without their derivatives (Point::complete false).
+  Point evaluate_values(const Eigen::VectorXd& z);
+  /// p with its derivatives, evaluated at p.z if it has none yet.
+  void complete(Point& p);
   bool out_of_time() const;
   /// Whether an iteration costing about `cost` would end past the deadline (if so, it is
   /// called: out_of_time() holds from then on).
