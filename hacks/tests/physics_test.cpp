@@ -703,8 +703,12 @@ TEST(Physics, ASlackChainBetweenRodsSagsUnfolded) {
 }
 
 // `hooks` medium S-hooks between two rods, built from the right rod; `mirrored` reflects the
-// world through the plane x = 0 (the left rod, which the chain ends on, then stands on the right).
-std::string medium_chain(int hooks, double span, double drop, bool mirrored) {
+// world through the plane x = 0 (the left rod, which the chain ends on, then stands on the right)
+// and `flip_alignments` turns every connection's alignment the other way (the mirror image of
+// an interlock: two hooks hung through each other the other way round).
+std::string medium_chain(
+    int hooks, double span, double drop, bool mirrored, bool flip_alignments = false) {
+  auto alignment = [&](bool flip) { return flip != flip_alignments ? ", alignment: flip" : ""; };
   const double side = mirrored ? -1.0 : 1.0;
   std::string s = fmt::format(
       "fabkit: hacks/1\nname: medium chain\nenvironment:\n"
@@ -718,36 +722,46 @@ std::string medium_chain(int hooks, double span, double drop, bool mirrored) {
       side * 180);
   for (int i = 1; i <= hooks; ++i)
     s += fmt::format("  - {{name: s{}, part: DoubleHookMedium}}\n", i);
-  s += fmt::format("connections:\n  - {{connect: [s{}.hook2, right.rod], alignment: flip}}\n",
-                   hooks);
+  s += fmt::format(
+      "connections:\n  - {{connect: [s{}.hook2, right.rod]{}}}\n", hooks, alignment(true));
   for (int i = hooks - 1; i >= 1; --i) {
-    s += fmt::format("  - connect: [s{}.hook2, s{}.hook1]\n", i, i + 1);
+    s += fmt::format("  - {{connect: [s{}.hook2, s{}.hook1]{}}}\n", i, i + 1, alignment(false));
   }
-  s += "  - connect: [s1.hook1, left.rod]\n";
+  s += fmt::format("  - {{connect: [s1.hook1, left.rod]{}}}\n", alignment(false));
   return s;
 }
 
-// A chain and its mirror image (the hooks are their own mirror images). The way the mirrored
-// chain's cycle first closed let a hook slide off the open end of the next under gravity, and
-// that was the verdict; the same chain hooked the other way holds, as the mirror image of the
-// first chain's rest. "Falls apart" is said of a design only when no way of closing it that
-// was tried holds.
+// A chain and its mirror image. The S-hooks are flat, their own mirror images, but an interlock
+// is not: the mirror image of two hooks hung through each other is the pair hung through each
+// other the other way round, the connection's other alignment (a hook hung on a rod likewise).
+// So the mirror image of the design reflects the world and turns every alignment the other way;
+// it rests as the mirror image of the chain. Reflecting the world alone keeps each interlock as
+// it was: another design, which must hold too (the way its cycle first closed let a hook slide
+// off the open end of the next under gravity, and that was once the verdict; the same chain
+// hooked another way holds). "Falls apart" is said of a design only when no way of closing it
+// that was tried holds.
 TEST(Physics, AMirroredChainRestsAsTheMirrorImageOfTheChain) {
   const double span = 254.2680214492943;
   const double drop = 57.312779318487;
   const Design a = load_text(medium_chain(10, span, drop, false));
-  const Design b = load_text(medium_chain(10, span, drop, true));
+  const Design mirror = load_text(medium_chain(10, span, drop, true, /*flip_alignments=*/true));
+  const Design reflected = load_text(medium_chain(10, span, drop, true));
   ASSERT_TRUE(a.feasible()) << a.diagnostics.format();
-  ASSERT_TRUE(b.feasible()) << b.diagnostics.format();
+  ASSERT_TRUE(mirror.feasible()) << mirror.diagnostics.format();
+  ASSERT_TRUE(reflected.feasible()) << reflected.diagnostics.format();
   const SolveResult ra = solve(a.assembly);
-  const SolveResult rb = solve(b.assembly);
+  const SolveResult rm = solve(mirror.assembly);
+  const SolveResult rr = solve(reflected.assembly);
   EXPECT_TRUE(ra.stable) << ra.summary();
-  EXPECT_TRUE(rb.stable) << rb.summary();
-  EXPECT_LE(rb.max_penetration_mm, 0.5) << rb.summary();
+  EXPECT_TRUE(rm.stable) << rm.summary();
+  EXPECT_TRUE(rr.stable) << rr.summary();
+  EXPECT_LE(rm.max_penetration_mm, 0.5) << rm.summary();
+  EXPECT_LE(rr.max_penetration_mm, 0.5) << rr.summary();
   for (const SolvedPart& p : ra.parts) {
-    for (const SolvedPart& q : rb.parts) {
+    for (const SolvedPart& q : rm.parts) {
       if (q.name != p.name) continue;
       EXPECT_NEAR(p.frame.pos.x(), -q.frame.pos.x(), 1.0) << p.name;
+      EXPECT_NEAR(p.frame.pos.y(), q.frame.pos.y(), 1.0) << p.name;
       EXPECT_NEAR(p.frame.pos.z(), q.frame.pos.z(), 1.0) << p.name;
     }
   }
@@ -1088,7 +1102,10 @@ std::string mirrored_design(const std::string& yaml) {
 
 // A design and its mirror image rest as mirror images of each other: the same verdict and
 // potential, every part at the same height and at the mirrored side. S-hooks are flat, so
-// the mirrored design is built of the same parts.
+// the mirrored design is built of the same parts. (Its interlocks keep their alignments here:
+// the exact mirror image turns each the other way, AMirroredChainRestsAsTheMirrorImageOfTheChain;
+// a chain of flat hooks hanging in its own plane rests with its parts at the same places
+// either way.)
 TEST(Physics, AMirroredDesignRestsAsTheMirrorImage) {
   // Chains between two rods, built from either end: mirrored, the chain starts from the rod on
   // the other side; and between rods at different heights, whose mirror image the closure
