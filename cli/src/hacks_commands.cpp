@@ -259,6 +259,7 @@ int solve_design(Design design, const DesignSettings& settings, bool write) {
   for (const hacks::Slip& s : result.slips) {
     std::fprintf(stderr, "error: falls apart: %s\n", s.message.c_str());
   }
+  if (!result.remedy.empty()) std::fprintf(stderr, "note: %s\n", result.remedy.c_str());
   if (result.termination == hacks::Termination::kTimeout) {
     std::fprintf(stderr, "error: %s\n", hacks::stopped_at_deadline(result, options).c_str());
     return kExitTimeLimit;

@@ -863,6 +863,26 @@ std::optional<Assembly> Assembly::made_in(
   return out;
 }
 
+std::optional<Assembly> Assembly::with_alignment_turned(
+    ConnectionId id, std::optional<std::chrono::steady_clock::time_point> deadline) const {
+  if (!id.valid()) return std::nullopt;
+  // Connection k was made by the k-th connect made (a refused connect leaves neither).
+  const auto k = static_cast<std::size_t>(id.index());
+  if (k >= connections_.size() || k >= connects_made_.size()) return std::nullopt;
+  const Connection& c = connections_[k];
+  const AlignmentOffset align =
+      alignment_offset(node(c.first.part).part->primitive(c.first.primitive).connector_kind(),
+                       node(c.second.part).part->primitive(c.second.primitive).connector_kind());
+  if (!align.flippable()) return std::nullopt;
+  Assembly turned = *this;
+  AlignmentChoice& alignment = turned.connects_made_[k].options.alignment;
+  alignment =
+      alignment == AlignmentChoice::kFlip ? AlignmentChoice::kDefault : AlignmentChoice::kFlip;
+  std::vector<CanonicalConnect> as_made(connects_made_.size());
+  for (std::size_t i = 0; i < as_made.size(); ++i) as_made[i].index = i;
+  return turned.made_in(as_made, deadline);
+}
+
 std::vector<ConnectionId> Assembly::cycle_connections() const {
   return graph_.cycle_edges();
 }

@@ -88,6 +88,7 @@ std::string result_json(const Assembly& assembly,
   ordered_json slipping = ordered_json::array();
   for (const Slip& s : r.slips) slipping.push_back(s.message);
   j["slipping"] = slipping;
+  j["remedy"] = r.remedy;
   ordered_json params = ordered_json::array();
   for (int i = 0; i < assembly.parameter_count() && i < static_cast<int>(r.parameters.size());
        ++i) {

@@ -21,9 +21,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using namespace detail;
 
-// Other ways a group's cycles may close, tried when it does not hold where its verified
-// configuration relaxes to (solve(), relax_free_group), and the random stream they draw from.
-constexpr int kOtherClosings = 24;
+// Other ways a group's cycles may close (SolveOptions::other_closings), tried when it does not
+// hold where its verified configuration relaxes to (solve(), relax_free_group), how many relax
+// at once, and the random stream they draw from.
 constexpr int kOtherClosingsAtOnce = 2;
 // Groups with more motions than this are judged where their verified configuration rests: a
 // relaxation from a random closing of a long chain can take minutes (one of a 32-hook span's
@@ -99,8 +99,51 @@ bool turns_target_about_vertical(const Assembly& a,
 constexpr double kWorldGridMm = 10000;
 
 SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& options);
+SolveResult solve_placed(const Assembly& assembly, const SolveOptions& options);
+
+// The design with the slipping connection made the other way round, solved: what to say if
+// it holds (SolveResult::remedy), or nothing. A hook that hangs by the tip of the next and
+// slides off often holds hung through it the other way: of 15 random chains of medium S-hooks
+// between two rods that fell apart so (2026-12-06), 12 held with that connect turned, and this
+// finds 10 of them.
+std::string remedy_for(const Assembly& assembly, const Slip& slip, const SolveOptions& options) {
+  const std::optional<Assembly> turned =
+      assembly.with_alignment_turned(slip.connection, options.deadline);
+  if (!turned) return {};
+  SolveOptions again = options;
+  again.seek_remedy = false;
+  // Where the changed design rests from its verified configuration only: its other closings
+  // would find the other 2, but cost as much as the failed solve (a bar through two hooks:
+  // 8.3 s, then +3.4 s with them, +0.5 s without).
+  again.other_closings = 0;
+  again.on_stage = nullptr;
+  const SolveResult r = solve_placed(*turned, again);
+  if (!r.stable) return {};
+  const Connection& c = assembly.connection(slip.connection);
+  const std::string where =
+      c.where.known() ? fmt::format(" ({}:{})", c.where.file, c.where.line) : std::string();
+  return fmt::format(
+      "{} and {} connected the other way round — {} on that connect{} — hold",
+      assembly.label(c.first.part, c.first.primitive),
+      assembly.label(c.second.part, c.second.primitive),
+      c.alignment == AlignmentChoice::kFlip ? "no alignment: flip" : "alignment: flip",
+      where);
+}
 
 }  // namespace
+
+SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
+  SolveResult result = solve_placed(assembly, options);
+  if (options.seek_remedy && !result.stable && !result.slips.empty() &&
+      result.termination != Termination::kTimeout) {
+    const auto began = Clock::now();
+    result.remedy = remedy_for(assembly, result.slips.front(), options);
+    result.timings.push_back({"remedy", ms_since(began)});
+  }
+  return result;
+}
+
+namespace {
 
 // A design far from the world's origin is solved shifted near it, by whole multiples of 10 m
 // (exact in floating point): the parameters do not change with a shift, but the solver's
@@ -108,7 +151,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
 // is the difference of two world-sized velocities, round-off of 10⁻¹¹ that the projection
 // took for a slope and divided a residual by (the paper towel holder ended "did not
 // converge"). Part frames and the energy are shifted back.
-SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
+SolveResult solve_placed(const Assembly& assembly, const SolveOptions& options) {
   Vec3 centre = Vec3::Zero();
   int environments = 0;
   for (const PartNode& n : assembly.nodes()) {
@@ -128,8 +171,6 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   result.energy -= shift.z() * mass;
   return result;
 }
-
-namespace {
 
 SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& options) {
   SolveResult result;
@@ -393,9 +434,9 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     GroupOutcome best = std::move(first);
     double best_energy = group_energy(problem, best.x);
     int k = 0;
-    while (k < kOtherClosings && !holds(best) && !stop->passed()) {
+    while (k < options.other_closings && !holds(best) && !stop->passed()) {
       std::vector<std::vector<double>> batch;
-      while (static_cast<int>(batch.size()) < kOtherClosingsAtOnce && k < kOtherClosings &&
+      while (static_cast<int>(batch.size()) < kOtherClosingsAtOnce && k < options.other_closings &&
              !stop->passed()) {
         if (std::optional<std::vector<double>> closed = closing(k++)) {
           batch.push_back(std::move(*closed));
@@ -652,6 +693,7 @@ std::string SolveResult::summary() const {
       escapes ? fmt::format(", {} escape{} from a balance point", escapes, escapes == 1 ? "" : "s")
               : "");
   for (const Slip& slip : slips) s += fmt::format("  {:<28}{}\n", "slips", slip.message);
+  if (!remedy.empty()) s += fmt::format("  {:<28}{}\n", "remedy", remedy);
   for (const PartContact& c : contacts) {
     s += fmt::format("  {:<28}{} and {}{}\n",
                      c.distance_mm < -kPenetrationToleranceMm ? "passes through" : "touches",

@@ -767,6 +767,54 @@ TEST(Physics, AMirroredChainRestsAsTheMirrorImageOfTheChain) {
   }
 }
 
+// A chain whose third hook hangs by the tip of the second falls apart, and the solve says which
+// connect, made the other way round, makes it hold (SolveResult::remedy): it names that connect
+// and its line, and the design with that one alignment turned holds indeed. A hook sliding down
+// a tilted rod has nothing to turn that helps: no remedy is claimed.
+TEST(Physics, AChainThatFallsApartSaysWhichConnectTurnedHolds) {
+  const std::string yaml = medium_chain(4, 2 * 46.381193894997025, -33.6291025558724, false);
+  const Design d = load_text(yaml);
+  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+  const SolveResult r = solve(d.assembly);
+  ASSERT_FALSE(r.stable) << r.summary();
+  ASSERT_FALSE(r.slips.empty()) << r.summary();
+  EXPECT_NE(r.remedy.find("alignment: flip on that connect"), std::string::npos) << r.summary();
+  const Connection& turned = d.assembly.connection(r.slips.front().connection);
+  ASSERT_GT(turned.where.line, 0);
+  EXPECT_NE(r.remedy.find(fmt::format(":{})", turned.where.line)), std::string::npos) << r.remedy;
+  // That line with its alignment turned: the design holds.
+  std::istringstream in(yaml);
+  std::string changed;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (n == turned.where.line) {
+      ASSERT_EQ(line.find("alignment"), std::string::npos) << line;
+      line = line.substr(0, line.rfind('}')) + ", alignment: flip}";
+    }
+    changed += line + "\n";
+  }
+  const Design fixed = load_text(changed);
+  ASSERT_TRUE(fixed.feasible()) << fixed.diagnostics.format();
+  EXPECT_TRUE(solve(fixed.assembly).stable) << changed;
+  SolveOptions no_remedy;
+  no_remedy.seek_remedy = false;
+  EXPECT_TRUE(solve(d.assembly, no_remedy).remedy.empty());
+  const Design tilted = load_text(R"(fabkit: hacks/1
+environment:
+  - {name: bar, primitives: {rod: {type: rod, radius: 5, length: 200}}, frame: {pos: [0, 0, 500], rot: [70, 0, 90]}}
+parts:
+  - {name: shook, part: DoubleHookMedium}
+  - {name: mug, part: Mug}
+connections:
+  - connect: [shook.hook1, bar.rod]
+  - connect: [mug.hook, shook.hook2]
+)");
+  ASSERT_TRUE(tilted.feasible()) << tilted.diagnostics.format();
+  const SolveResult t = solve(tilted.assembly);
+  EXPECT_FALSE(t.stable) << t.summary();
+  EXPECT_TRUE(t.remedy.empty()) << t.remedy;
+}
+
 // A mug on an S-hook from an adhesive wall hook: the wall hook stays where it was stuck (step 2
 // does not turn it on the wall), whatever other ways of hanging the rest are tried, and the mug
 // hangs below it. (Other closings that turned the wall hook on the wall were once relaxed and

@@ -444,6 +444,11 @@ void fabkit::python::bind_hacks(py::module_ m) {
                                return out;
                              })
       .def_property_readonly(
+          "remedy",
+          [](const Solved& s) { return s.result.remedy; },
+          "For a design that falls apart: a change to it that holds, found by solving the "
+          "changed design (empty if none was found).")
+      .def_property_readonly(
           "contacts",
           [](const Solved& s) {
             py::list out;

@@ -196,6 +196,8 @@ def test_falls_apart_reports_the_slipping_connection():
     r = assembly.solve()
     assert r.stable is False
     assert r.slipping and "slides off the open end of Environment.rod" in r.slipping[0]
+    # Nothing turned the other way round holds a hook on a rod this steep.
+    assert r.remedy == ""
 
 
 def test_contacts_are_reported_and_an_overlapping_pose_is_not_stable():

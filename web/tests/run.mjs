@@ -314,7 +314,18 @@ try {
     assert((await p.getByTestId('connection-0').getAttribute('class')).includes('slipping'), 'connection 0 not marked slipping');
     assert(!(await p.getByTestId('connection-1').getAttribute('class')).includes('slipping'), 'connection 1 marked slipping');
     assert((await p.getByTestId('slipping').first().textContent()).includes('slides off'), 'slipping text');
+    // Nothing turned the other way round holds a hook on a rod this steep: no remedy is offered.
+    assert(await p.getByTestId('remedy').count() === 0, 'a remedy offered for the tilted rod');
     await p.close();
+    // A chain whose hook hangs by the tip of the next: the remedy names the connect to turn.
+    const q = await freshPage();
+    await q.getByTestId('open-file').setInputFiles(path.join(repo, 'examples/failing/chain_hung_by_a_tip.yaml'));
+    await idle(q);
+    await click(q, 'solve');
+    assert((await q.getByTestId('verdict').textContent()) === 'FALLS APART', 'chain verdict');
+    const remedy = await q.getByTestId('remedy').textContent();
+    assert(/s3\.hook1 and s2\.hook2 connected the other way round — alignment: flip/.test(remedy), `remedy: ${remedy}`);
+    await q.close();
   });
 
   await test('m loose-primitive-environment', async () => {

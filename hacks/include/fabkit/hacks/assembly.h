@@ -278,6 +278,14 @@ class Assembly {
   std::optional<Assembly> closed_in_canonical_order(
       const std::vector<ConnectRequest>& missed,
       std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
+  /// This assembly with connection `id` made the other way round (its alignment turned:
+  /// default ↔ flip; two hooks hung through each other the other way, a hook facing the other
+  /// way on a rod), every connect made again in the order it was made and verified. None if
+  /// that connection has no other way (its alignment cannot flip) or the design does not
+  /// verify with it turned.
+  std::optional<Assembly> with_alignment_turned(
+      ConnectionId id,
+      std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
   /// One connect of the canonical order: which (an index into connections()), and whether
   /// its two sides are given the other way round from how they were made (a connect that
   /// closes a cycle is made with its sides in a canonical order too: which comes first

@@ -33,6 +33,13 @@ struct SolveOptions {
   int threads = 0;
   /// Called as each stage starts ("step1", "step2", "stability"); for progress displays.
   std::function<void(std::string_view stage)> on_stage;
+  /// When the design falls apart, slipping at a connection that can be made the other way
+  /// round (its alignment turned), solve that design too and say in SolveResult::remedy if it
+  /// holds.
+  bool seek_remedy = true;
+  /// A group the target does not steer that does not hold where its verified configuration
+  /// rests is relaxed from up to this many other ways of closing its cycles (docs/hacks.md).
+  int other_closings = 24;
 };
 
 /// Why the solver stopped.
@@ -111,7 +118,11 @@ struct SolveResult {
   std::vector<double> parameters;  ///< after relaxation
   std::vector<Slip> slips;
   std::vector<std::string> stability_notes;  ///< e.g. "sags by 12 mm; stable"
-  double max_gap_mm = 0;                     ///< largest connection gap after relaxation
+  /// For a design that falls apart: a change to it that holds, found by solving the changed
+  /// design ("s1.hook2 and s2.hook1 hung through each other the other way round — alignment:
+  /// flip on that connect (design.yaml:14) — hold"); empty when none was found.
+  std::string remedy;
+  double max_gap_mm = 0;  ///< largest connection gap after relaxation
   double max_gap_deg = 0;
   /// Largest slope of the potential (mean centre-of-mass height, mm) along any motion the
   /// connections and bounds allow, per mm of sliding or degree of turning; ~0 at equilibrium.

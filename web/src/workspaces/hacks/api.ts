@@ -29,6 +29,8 @@ export interface SolveResult {
   stable: boolean; feasible: boolean; termination: string; message: string;
   target: PoseError & { step1?: PoseError; primitive?: string; goal?: Frame };
   parts: PlacedPart[]; slipping: string[];
+  /** For a design that falls apart: a change to it that holds, found by solving it (docs/result-format.md). */
+  remedy?: string;
   /** Every part's frame after step 1 (before relaxing under gravity); added by the server for the editor. */
   step1_parts?: { name: string; frame: Frame }[];
 }

@@ -149,6 +149,7 @@ export class Panels {
         ...(hasTarget && t.step1 ? [el('div', { class: 'hint', 'data-testid': 'target-error-step1' }, `before gravity (step 1): ${describeError(t.step1)}`)] : []),
         el('div', { class: 'hint', 'data-testid': 'termination' }, `Solver: ${terminationText(r.termination)}${r.message ? ` — ${r.message}` : ''}`),
         ...r.slipping.map((s) => el('div', { class: 'diag', 'data-testid': 'slipping' }, `slipping: ${s}`)),
+        ...(r.remedy ? [el('div', { class: 'hint', 'data-testid': 'remedy' }, `To make it hold: ${r.remedy}`)] : []),
         ...(r.step1_parts?.length ? [button('Replay settling', 'replay-settle', () => void this.w.ctx.track(this.w.settle()), { title: 'Show again how the assembly moves from reaching for the target (step 1) to resting under gravity' })] : []),
       );
       this.solveBox.dataset.state = state;
