@@ -367,44 +367,23 @@ ManifoldSolver::Point ManifoldSolver::evaluate_rows(const Eigen::VectorXd& z,
   } else {
     problem_.evaluate(z.data(), values_.data(), jacobian_.data());
   }
-  auto value = [&](int row) { return values_[static_cast<std::size_t>(row)]; };
   auto grad = [&](int row, int col) {
     return jacobian_[static_cast<std::size_t>(row) * static_cast<std::size_t>(n_) +
                      static_cast<std::size_t>(col)];
   };
-  std::vector<int> active;
-  if (binding) {
-    for (int i : *binding) active.push_back(no + m + i);
-    p.binding = *binding;
-  } else {
-    for (int i = 0; i < ni; ++i) {
-      if (value(no + m + i) > -options_.inequality_margin) {
-        active.push_back(no + m + i);
-        p.binding.push_back(i);
-      }
-    }
+  const std::vector<int> rows = take_values(p, binding);
+  p.J.resize(static_cast<Eigen::Index>(rows.size()), n_);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    for (int k = 0; k < n_; ++k) p.J(static_cast<Eigen::Index>(r), k) = grad(rows[r], k);
   }
-  const int rows_total = m + static_cast<int>(active.size());
-  p.h.resize(rows_total);
-  p.J.resize(rows_total, n_);
-  for (int r = 0; r < rows_total; ++r) {
-    const int row = r < m ? no + r : active[static_cast<std::size_t>(r - m)];
-    // An inequality binds only while active; a satisfied one contributes 0.
-    p.h[r] = r < m ? value(row) : std::max(0.0, value(row));
-    for (int k = 0; k < n_; ++k) p.J(r, k) = grad(row, k);
-  }
+  p.g.resize(n_);
   if (no == 1) {
-    p.f = value(0);
-    p.g.resize(n_);
     for (int k = 0; k < n_; ++k) p.g[k] = grad(0, k);
   } else {
-    p.r.resize(no);
     p.Jr.resize(no, n_);
     for (int i = 0; i < no; ++i) {
-      p.r[i] = value(i);
       for (int k = 0; k < n_; ++k) p.Jr(i, k) = grad(i, k);
     }
-    p.f = 0.5 * p.r.squaredNorm();
     p.g = p.Jr.transpose() * p.r;
   }
   return p;
@@ -414,25 +393,36 @@ ManifoldSolver::Point ManifoldSolver::evaluate_values(const Eigen::VectorXd& z) 
   Point p;
   p.z = z;
   p.complete = false;
+  values_.resize(static_cast<std::size_t>(problem_.objectives() + problem_.equalities() +
+                                          problem_.inequalities()));
+  problem_.evaluate_values(z.data(), values_.data());
+  take_values(p, nullptr);
+  return p;
+}
+
+std::vector<int> ManifoldSolver::take_values(Point& p, const std::vector<int>* binding) const {
   const int no = problem_.objectives();
   const int m = problem_.equalities();
   const int ni = problem_.inequalities();
-  values_.resize(static_cast<std::size_t>(no + m + ni));
-  problem_.evaluate_values(z.data(), values_.data());
   auto value = [&](int row) { return values_[static_cast<std::size_t>(row)]; };
-  // The rows evaluate_rows() keeps, with the same values.
-  std::vector<int> active;
-  for (int i = 0; i < ni; ++i) {
-    if (value(no + m + i) > -options_.inequality_margin) {
-      active.push_back(no + m + i);
-      p.binding.push_back(i);
+  std::vector<int> rows;  // of values_: the equalities, then the binding inequalities
+  for (int r = 0; r < m; ++r) rows.push_back(no + r);
+  if (binding) {
+    for (int i : *binding) rows.push_back(no + m + i);
+    p.binding = *binding;
+  } else {
+    for (int i = 0; i < ni; ++i) {
+      if (value(no + m + i) > -options_.inequality_margin) {
+        rows.push_back(no + m + i);
+        p.binding.push_back(i);
+      }
     }
   }
-  const int rows_total = m + static_cast<int>(active.size());
-  p.h.resize(rows_total);
-  for (int r = 0; r < rows_total; ++r) {
-    const int row = r < m ? no + r : active[static_cast<std::size_t>(r - m)];
-    p.h[r] = r < m ? value(row) : std::max(0.0, value(row));
+  p.h.resize(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    // An inequality binds only while active; a satisfied one contributes 0.
+    const double v = value(rows[r]);
+    p.h[static_cast<Eigen::Index>(r)] = static_cast<int>(r) < m ? v : std::max(0.0, v);
   }
   if (no == 1) {
     p.f = value(0);
@@ -441,7 +431,7 @@ ManifoldSolver::Point ManifoldSolver::evaluate_values(const Eigen::VectorXd& z) 
     for (int i = 0; i < no; ++i) p.r[i] = value(i);
     p.f = 0.5 * p.r.squaredNorm();
   }
-  return p;
+  return rows;
 }
 
 void ManifoldSolver::complete(Point& p) {

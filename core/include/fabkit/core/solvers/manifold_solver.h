@@ -259,6 +259,10 @@ class ManifoldSolver {
   Point evaluate_rows(const Eigen::VectorXd& z, const std::vector<int>* binding, bool slopes_only);
   /// f, r and h at z without their derivatives (Point::complete false).
   Point evaluate_values(const Eigen::VectorXd& z);
+  /// p's f, r, h and binding from the values just evaluated (`binding` given: those
+  /// inequalities; otherwise those within the margin), as both evaluations keep them; the rows
+  /// of the values h holds, in order.
+  std::vector<int> take_values(Point& p, const std::vector<int>* binding) const;
   /// p with its derivatives, evaluated at p.z if it has none yet.
   void complete(Point& p);
   bool out_of_time() const;
