@@ -325,6 +325,13 @@ try {
     assert((await q.getByTestId('verdict').textContent()) === 'FALLS APART', 'chain verdict');
     const remedy = await q.getByTestId('remedy').textContent();
     assert(/s3\.hook1 and s2\.hook2 connected the other way round — alignment: flip/.test(remedy), `remedy: ${remedy}`);
+    // Its button makes that change (undoably) and solves again: the chain holds.
+    await click(q, 'apply-remedy');
+    await idle(q);
+    assert((await q.evaluate(() => window.__fabkit.designYaml())).match(/alignment: flip/g).length === 2, 'remedy not in the design');
+    const after = await q.getByTestId('verdict').textContent({ timeout: 10000 })
+      .catch(async () => `none (${await q.getByTestId('solve-result').textContent()})`);
+    assert(after === 'STABLE', `verdict after the remedy: ${after}`);
     await q.close();
   });
 

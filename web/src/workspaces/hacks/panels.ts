@@ -149,7 +149,7 @@ export class Panels {
         ...(hasTarget && t.step1 ? [el('div', { class: 'hint', 'data-testid': 'target-error-step1' }, `before gravity (step 1): ${describeError(t.step1)}`)] : []),
         el('div', { class: 'hint', 'data-testid': 'termination' }, `Solver: ${terminationText(r.termination)}${r.message ? ` — ${r.message}` : ''}`),
         ...r.slipping.map((s) => el('div', { class: 'diag', 'data-testid': 'slipping' }, `slipping: ${s}`)),
-        ...(r.remedy ? [el('div', { class: 'hint', 'data-testid': 'remedy' }, `To make it hold: ${r.remedy}`)] : []),
+        ...(r.remedy ? [el('div', { class: 'hint', 'data-testid': 'remedy' }, `To make it hold: ${r.remedy}`), ...this.remedyButton(r.remedy)] : []),
         ...(r.step1_parts?.length ? [button('Replay settling', 'replay-settle', () => void this.w.ctx.track(this.w.settle()), { title: 'Show again how the assembly moves from reaching for the target (step 1) to resting under gravity' })] : []),
       );
       this.solveBox.dataset.state = state;
@@ -300,6 +300,23 @@ export class Panels {
     if (!d.environment.length) host.append(el('p', { class: 'hint' }, 'Choose an environment part in the library and press "Set as environment"; the same for the target.'));
   }
 
+  /** Connection i the other way round (its alignment flipped), undoably; solved again if asked. */
+  private turnConnection(i: number, solve: boolean): void {
+    const w = this.w;
+    const n = cloneDesign(w.design);
+    if (n.connections[i].alignment === 'flip') delete n.connections[i].alignment; else n.connections[i].alignment = 'flip';
+    w.ctx.history.apply(n, 'alignment');
+    if (solve) void w.ctx.track(w.solve());
+  }
+
+  /** A button that makes the change a solve's remedy names (the connection of its two primitives). */
+  private remedyButton(remedy: string): HTMLElement[] {
+    const i = this.w.design.connections.findIndex((c) => remedy.includes(`${c.a} and ${c.b} `) || remedy.includes(`${c.b} and ${c.a} `));
+    if (i < 0) return [];
+    return [button('Turn it and solve', 'apply-remedy', () => this.turnConnection(i, true),
+      { title: 'Turn that connection the other way round (its alignment) and solve again (undoable)' })];
+  }
+
   private renderConnections(): void {
     const w = this.w, h = w.ctx.history;
     const host = this.connections; host.innerHTML = '';
@@ -314,10 +331,7 @@ export class Panels {
       const li = el('li', { 'data-testid': `connection-${i}`, class: (rejected ? 'rejected' : '') + (slipping.includes(i) ? ' slipping' : '') + (w.selectedConnection() === i ? ' selected' : '') },
         text, ' ',
         button(c.alignment === 'flip' ? 'alignment: flipped' : 'alignment: default', `flip-${i}`, () => {
-          const n = cloneDesign(w.design); const wasSolved = !!w.lastSolve;
-          if (n.connections[i].alignment === 'flip') delete n.connections[i].alignment; else n.connections[i].alignment = 'flip';
-          h.apply(n, 'alignment');
-          if (wasSolved) void w.ctx.track(w.solve()); // re-solve with the flipped alignment
+          this.turnConnection(i, !!w.lastSolve); // re-solve with the flipped alignment
         }, { title: 'Which way round the two primitives meet: default, or flipped (turned over — e.g. an eye hook hanging from the other side of a rod). Click to switch; re-solves when a solve result is shown.' }),
         button(c.fixed ? 'joint: fixed' : 'joint: free', `fixed-${i}`, () => { const n = cloneDesign(w.design); if (n.connections[i].fixed) delete n.connections[i].fixed; else n.connections[i].fixed = true; h.apply(n, 'fixed'); }, { title: 'free: the connection may slide and turn when the assembly settles under gravity; fixed: it stays where step 1 put it (e.g. a hook you tape down). Click to switch.' }),
         button('✕', `delete-connection-${i}`, () => { const n = cloneDesign(w.design); n.connections.splice(i, 1); h.apply(n, 'delete connection'); }, { title: 'Delete this connection (undoable)', 'aria-label': `delete connection ${c.a} – ${c.b}` }),
