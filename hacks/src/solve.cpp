@@ -123,7 +123,7 @@ std::string remedy_for(const Assembly& assembly, const Slip& slip, const SolveOp
   const std::string where =
       c.where.known() ? fmt::format(" ({}:{})", c.where.file, c.where.line) : std::string();
   return fmt::format(
-      "{} and {} connected the other way round — {} on that connect{} — hold",
+      "with {} and {} connected the other way round — {} on that connect{} — it holds",
       assembly.label(c.first.part, c.first.primitive),
       assembly.label(c.second.part, c.second.primitive),
       c.alignment == AlignmentChoice::kFlip ? "no alignment: flip" : "alignment: flip",

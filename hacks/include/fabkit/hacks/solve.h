@@ -119,8 +119,8 @@ struct SolveResult {
   std::vector<Slip> slips;
   std::vector<std::string> stability_notes;  ///< e.g. "sags by 12 mm; stable"
   /// For a design that falls apart: a change to it that holds, found by solving the changed
-  /// design ("s1.hook2 and s2.hook1 hung through each other the other way round — alignment:
-  /// flip on that connect (design.yaml:14) — hold"); empty when none was found.
+  /// design ("with s1.hook2 and s2.hook1 connected the other way round — alignment: flip on
+  /// that connect (design.yaml:14) — it holds"); empty when none was found.
   std::string remedy;
   double max_gap_mm = 0;  ///< largest connection gap after relaxation
   double max_gap_deg = 0;
