@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <set>
+#include <string>
 
+#include "fabkit/hacks/connection_rules.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 #include "test_support.h"
 
@@ -121,6 +124,49 @@ TEST(Assembly, DemoMatchesReferenceAtDefaultParameters) {
                   .norm(),
               1e-9);
   }
+}
+
+// A connection made the other way round (the remedy a solve offers for a slip): every other
+// connect as it was, that one's alignment turned, the design verified again; a connection with
+// no other way round, or no connection, gives none.
+TEST(Assembly, AConnectionTurnedTheOtherWayRound) {
+  int turned_any = 0;
+  int fixed_any = 0;
+  for (const char* name : testing::kGalleryExamples) {
+    // Its closure searches, once per connection turned, would be most of the test's time.
+    if (std::string(name) == "reading_nook") continue;
+    const Design d = testing::load_example(name);
+    ASSERT_TRUE(d.feasible()) << name;
+    const Assembly& a = d.assembly;
+    EXPECT_FALSE(a.with_alignment_turned(ConnectionId{}).has_value()) << name;
+    EXPECT_FALSE(
+        a.with_alignment_turned(ConnectionId{static_cast<int>(a.connections().size())}).has_value())
+        << name;
+    for (std::size_t k = 0; k < a.connections().size(); ++k) {
+      const Connection& c = a.connections()[k];
+      const bool flippable =
+          alignment_offset(
+              a.node(c.first.part).part->primitive(c.first.primitive).connector_kind(),
+              a.node(c.second.part).part->primitive(c.second.primitive).connector_kind())
+              .flippable();
+      const std::optional<Assembly> t = a.with_alignment_turned(ConnectionId{static_cast<int>(k)});
+      if (!flippable) {
+        EXPECT_FALSE(t.has_value()) << name << " connection " << k;
+        ++fixed_any;
+        continue;
+      }
+      if (!t) continue;  // the design does not verify that way (a cycle that no longer closes)
+      ++turned_any;
+      ASSERT_EQ(t->connections().size(), a.connections().size()) << name;
+      for (std::size_t j = 0; j < a.connections().size(); ++j) {
+        EXPECT_EQ(t->connections()[j].alignment == a.connections()[j].alignment, j != k)
+            << name << " connection " << j << " with " << k << " turned";
+      }
+      EXPECT_EQ(t->part_count(), a.part_count()) << name;
+    }
+  }
+  EXPECT_GT(turned_any, 10);
+  EXPECT_GT(fixed_any, 0);
 }
 
 TEST(Assembly, LabelsCountInstancesOfAType) {
