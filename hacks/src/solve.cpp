@@ -101,44 +101,85 @@ constexpr double kWorldGridMm = 10000;
 SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& options);
 SolveResult solve_placed(const Assembly& assembly, const SolveOptions& options);
 
-// The design with the slipping connection made the other way round, solved: what to say if
-// it holds (SolveResult::remedy), or nothing. A hook that hangs by the tip of the next and
-// slides off often holds hung through it the other way: of 15 random chains of medium S-hooks
-// between two rods that fell apart so (2026-12-06), 12 held with that connect turned, and this
-// finds 10 of them.
-std::string remedy_for(const Assembly& assembly, const Slip& slip, const SolveOptions& options) {
-  const std::optional<Assembly> turned =
-      assembly.with_alignment_turned(slip.connection, options.deadline);
-  if (!turned) return {};
+// The connections that may be turned the other way round to mend what went wrong: the one
+// that slips; or, for two parts passing through each other (links of a chain tangled), every
+// connection of the two, in the order they were made (at most kRemedyTries of them). A part
+// through the environment is not tried: that is where the design puts it (the diaper caddy in
+// its seat back), not how it is hooked, and the tries cost a solve each (600 ms there).
+constexpr int kRemedyTries = 6;
+
+std::vector<ConnectionId> connections_to_turn(const Assembly& assembly, const SolveResult& r) {
+  std::vector<ConnectionId> out;
+  if (!r.slips.empty()) {
+    out.push_back(r.slips.front().connection);
+    return out;
+  }
+  if (r.max_penetration_mm <= kPenetrationToleranceMm || r.contacts.empty()) return out;
+  // Contacts are deepest first; their parts are named by label.
+  const PartContact& deepest = r.contacts.front();
+  std::vector<int> parts;
+  for (int i = 0; i < assembly.part_count(); ++i) {
+    const std::string label = assembly.label(PartId{i});
+    if (label != deepest.part_a && label != deepest.part_b) continue;
+    if (assembly.node(PartId{i}).environment) return out;
+    parts.push_back(i);
+  }
+  for (std::size_t k = 0; k < assembly.connections().size(); ++k) {
+    const Connection& c = assembly.connections()[k];
+    const bool touches =
+        std::find(parts.begin(), parts.end(), c.first.part.index()) != parts.end() ||
+        std::find(parts.begin(), parts.end(), c.second.part.index()) != parts.end();
+    if (touches) out.push_back(ConnectionId{static_cast<int>(k)});
+  }
+  if (out.size() > static_cast<std::size_t>(kRemedyTries)) out.resize(kRemedyTries);
+  return out;
+}
+
+// The design with one of those connections made the other way round, solved: what to say of
+// the first that holds (SolveResult::remedy), or nothing. A hook that hangs by the tip of the
+// next and slides off often holds hung through it the other way: of 15 random chains of medium
+// S-hooks between two rods that fell apart so (2026-12-06), 12 held with that connect turned,
+// and this finds 10 of them; of 8 that passed through themselves, all 8 held with one of the
+// two parts' connects turned.
+std::string remedy_for(const Assembly& assembly,
+                       const std::vector<ConnectionId>& candidates,
+                       const SolveOptions& options) {
   SolveOptions again = options;
   again.seek_remedy = false;
   // Where the changed design rests from its verified configuration only: its other closings
-  // would find the other 2, but cost as much as the failed solve (a bar through two hooks:
-  // 8.3 s, then +3.4 s with them, +0.5 s without).
+  // would find 2 more of the 15, but cost as much as the failed solve (a bar through two
+  // hooks: 8.3 s, then +3.4 s with them, +0.5 s without).
   again.other_closings = 0;
   again.on_stage = nullptr;
-  const SolveResult r = solve_placed(*turned, again);
-  if (!r.stable) return {};
-  const Connection& c = assembly.connection(slip.connection);
-  const std::string where =
-      c.where.known() ? fmt::format(" ({}:{})", c.where.file, c.where.line) : std::string();
-  return fmt::format(
-      "with {} and {} connected the other way round — {} on that connect{} — it holds",
-      assembly.label(c.first.part, c.first.primitive),
-      assembly.label(c.second.part, c.second.primitive),
-      c.alignment == AlignmentChoice::kFlip ? "no alignment: flip" : "alignment: flip",
-      where);
+  for (const ConnectionId id : candidates) {
+    if (options.deadline && std::chrono::steady_clock::now() >= *options.deadline) break;
+    const std::optional<Assembly> turned = assembly.with_alignment_turned(id, options.deadline);
+    if (!turned || !solve_placed(*turned, again).stable) continue;
+    const Connection& c = assembly.connection(id);
+    const std::string where =
+        c.where.known() ? fmt::format(" ({}:{})", c.where.file, c.where.line) : std::string();
+    return fmt::format(
+        "with {} and {} connected the other way round — {} on that connect{} — it holds",
+        assembly.label(c.first.part, c.first.primitive),
+        assembly.label(c.second.part, c.second.primitive),
+        c.alignment == AlignmentChoice::kFlip ? "no alignment: flip" : "alignment: flip",
+        where);
+  }
+  return {};
 }
 
 }  // namespace
 
 SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   SolveResult result = solve_placed(assembly, options);
-  if (options.seek_remedy && !result.stable && !result.slips.empty() &&
+  if (options.seek_remedy && result.feasible && !result.stable &&
       result.termination != Termination::kTimeout) {
-    const auto began = Clock::now();
-    result.remedy = remedy_for(assembly, result.slips.front(), options);
-    result.timings.push_back({"remedy", ms_since(began)});
+    const std::vector<ConnectionId> candidates = connections_to_turn(assembly, result);
+    if (!candidates.empty()) {
+      const auto began = Clock::now();
+      result.remedy = remedy_for(assembly, candidates, options);
+      result.timings.push_back({"remedy", ms_since(began)});
+    }
   }
   return result;
 }

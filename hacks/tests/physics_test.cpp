@@ -815,6 +815,58 @@ connections:
   EXPECT_TRUE(t.remedy.empty()) << t.remedy;
 }
 
+// Two links of a chain passing through each other: the solve says which of their connects,
+// made the other way round, untangles it (SolveResult::remedy), and that design holds indeed.
+TEST(Physics, AChainThroughItselfSaysWhichConnectTurnedHolds) {
+  const std::string yaml = R"(fabkit: hacks/1
+name: medium chain
+environment:
+  - {name: left, primitives: {rod: {type: rod, radius: 2.5, length: 300}}, frame: {pos: [-111.09713556274362, 0, 500], rot: [90, 0, 0]}}
+  - {name: right, primitives: {rod: {type: rod, radius: 2.5, length: 300}}, frame: {pos: [111.09713556274362, 0, 440.7178278398759], rot: [90, 0, 180.0]}}
+parts:
+  - {name: s1, part: DoubleHookMedium}
+  - {name: s2, part: DoubleHookMedium}
+  - {name: s3, part: DoubleHookMedium}
+  - {name: s4, part: DoubleHookMedium}
+  - {name: s5, part: DoubleHookMedium}
+connections:
+  - {connect: [s5.hook2, right.rod], alignment: flip}
+  - {connect: [s4.hook2, s5.hook1]}
+  - {connect: [s3.hook2, s4.hook1]}
+  - {connect: [s2.hook2, s3.hook1]}
+  - {connect: [s1.hook2, s2.hook1]}
+  - {connect: [s1.hook1, left.rod]}
+)";
+  const Design d = load_text(yaml);
+  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+  const SolveResult r = solve(d.assembly);
+  ASSERT_FALSE(r.stable) << r.summary();
+  EXPECT_TRUE(r.slips.empty()) << r.summary();
+  EXPECT_GT(r.max_penetration_mm, 0.5) << r.summary();
+  ASSERT_FALSE(r.remedy.empty()) << r.summary();
+  // The remedy's line, with its alignment turned: the design holds.
+  const std::size_t colon = r.remedy.rfind(':');
+  ASSERT_NE(colon, std::string::npos) << r.remedy;
+  const int turned = std::stoi(r.remedy.substr(colon + 1));
+  std::istringstream in(yaml);
+  std::string changed;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (n == turned) {
+      ASSERT_NE(line.find("connect:"), std::string::npos) << line;
+      line = line.find(", alignment: flip") != std::string::npos
+                 ? line.replace(line.find(", alignment: flip"), 17, "")
+                 : line.substr(0, line.rfind('}')) + ", alignment: flip}";
+    }
+    changed += line + "\n";
+  }
+  const Design fixed = load_text(changed);
+  ASSERT_TRUE(fixed.feasible()) << fixed.diagnostics.format();
+  const SolveResult after = solve(fixed.assembly);
+  EXPECT_TRUE(after.stable) << changed << after.summary();
+  EXPECT_LE(after.max_penetration_mm, 0.5) << after.summary();
+}
+
 // A mug on an S-hook from an adhesive wall hook: the wall hook stays where it was stuck (step 2
 // does not turn it on the wall), whatever other ways of hanging the rest are tried, and the mug
 // hangs below it. (Other closings that turned the wall hook on the wall were once relaxed and

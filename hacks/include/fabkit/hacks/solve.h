@@ -34,8 +34,9 @@ struct SolveOptions {
   /// Called as each stage starts ("step1", "step2", "stability"); for progress displays.
   std::function<void(std::string_view stage)> on_stage;
   /// When the design falls apart, slipping at a connection that can be made the other way
-  /// round (its alignment turned), solve that design too and say in SolveResult::remedy if it
-  /// holds.
+  /// round (its alignment turned), or two of its parts pass through each other, solve the
+  /// designs with that connection (or the two parts' connections) turned too and say in
+  /// SolveResult::remedy if one holds.
   bool seek_remedy = true;
   /// A group the target does not steer that does not hold where its verified configuration
   /// rests is relaxed from up to this many other ways of closing its cycles (docs/hacks.md).
@@ -118,9 +119,9 @@ struct SolveResult {
   std::vector<double> parameters;  ///< after relaxation
   std::vector<Slip> slips;
   std::vector<std::string> stability_notes;  ///< e.g. "sags by 12 mm; stable"
-  /// For a design that falls apart: a change to it that holds, found by solving the changed
-  /// design ("with s1.hook2 and s2.hook1 connected the other way round — alignment: flip on
-  /// that connect (design.yaml:14) — it holds"); empty when none was found.
+  /// For a design that falls apart or passes through itself: a change to it that holds, found
+  /// by solving the changed design ("with s1.hook2 and s2.hook1 connected the other way round —
+  /// alignment: flip on that connect (design.yaml:14) — it holds"); empty when none was found.
   std::string remedy;
   double max_gap_mm = 0;  ///< largest connection gap after relaxation
   double max_gap_deg = 0;
