@@ -863,17 +863,21 @@ std::optional<Assembly> Assembly::made_in(
   return out;
 }
 
+bool Assembly::alignment_can_turn(ConnectionId id) const {
+  if (!id.valid() || static_cast<std::size_t>(id.index()) >= connections_.size()) return false;
+  const Connection& c = connections_[static_cast<std::size_t>(id.index())];
+  return alignment_offset(node(c.first.part).part->primitive(c.first.primitive).connector_kind(),
+                          node(c.second.part).part->primitive(c.second.primitive).connector_kind())
+      .flippable();
+}
+
 std::optional<Assembly> Assembly::with_alignment_turned(
     ConnectionId id, std::optional<std::chrono::steady_clock::time_point> deadline) const {
-  if (!id.valid()) return std::nullopt;
   // Connection k was made by the k-th connect made (a refused connect leaves neither).
+  if (!alignment_can_turn(id) || static_cast<std::size_t>(id.index()) >= connects_made_.size()) {
+    return std::nullopt;
+  }
   const auto k = static_cast<std::size_t>(id.index());
-  if (k >= connections_.size() || k >= connects_made_.size()) return std::nullopt;
-  const Connection& c = connections_[k];
-  const AlignmentOffset align =
-      alignment_offset(node(c.first.part).part->primitive(c.first.primitive).connector_kind(),
-                       node(c.second.part).part->primitive(c.second.primitive).connector_kind());
-  if (!align.flippable()) return std::nullopt;
   Assembly turned = *this;
   AlignmentChoice& alignment = turned.connects_made_[k].options.alignment;
   alignment =

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -103,7 +104,7 @@ SolveResult solve_placed(const Assembly& assembly, const SolveOptions& options);
 
 // The connections that may be turned the other way round to mend what went wrong: the one
 // that slips; or, for two parts passing through each other (links of a chain tangled), every
-// connection of the two, in the order they were made (at most kRemedyTries of them). A part
+// connection of the two that can turn, in the order they were made (at most kRemedyTries). A part
 // through the environment is not tried: that is where the design puts it (the diaper caddy in
 // its seat back), not how it is hooked, and the tries cost a solve each (600 ms there).
 constexpr int kRemedyTries = 6;
@@ -111,7 +112,9 @@ constexpr int kRemedyTries = 6;
 std::vector<ConnectionId> connections_to_turn(const Assembly& assembly, const SolveResult& r) {
   std::vector<ConnectionId> out;
   if (!r.slips.empty()) {
-    out.push_back(r.slips.front().connection);
+    if (assembly.alignment_can_turn(r.slips.front().connection)) {
+      out.push_back(r.slips.front().connection);
+    }
     return out;
   }
   if (r.max_penetration_mm <= kPenetrationToleranceMm || r.contacts.empty()) return out;
@@ -129,7 +132,8 @@ std::vector<ConnectionId> connections_to_turn(const Assembly& assembly, const So
     const bool touches =
         std::find(parts.begin(), parts.end(), c.first.part.index()) != parts.end() ||
         std::find(parts.begin(), parts.end(), c.second.part.index()) != parts.end();
-    if (touches) out.push_back(ConnectionId{static_cast<int>(k)});
+    const ConnectionId id{static_cast<int>(k)};
+    if (touches && assembly.alignment_can_turn(id)) out.push_back(id);
   }
   if (out.size() > static_cast<std::size_t>(kRemedyTries)) out.resize(kRemedyTries);
   return out;

@@ -767,6 +767,24 @@ TEST(Physics, AMirroredChainRestsAsTheMirrorImageOfTheChain) {
   }
 }
 
+// `yaml` with the connect on line `line` (1-based) turned the other way round: its
+// `alignment: flip` added, or taken away (what a remedy tells the user to write).
+std::string with_line_turned(const std::string& yaml, int line) {
+  std::istringstream in(yaml);
+  std::string out;
+  std::string text;
+  for (int n = 1; std::getline(in, text); ++n) {
+    if (n == line) {
+      EXPECT_NE(text.find("connect:"), std::string::npos) << text;
+      const std::size_t flip = text.find(", alignment: flip");
+      text = flip != std::string::npos ? text.erase(flip, 17)
+                                       : text.substr(0, text.rfind('}')) + ", alignment: flip}";
+    }
+    out += text + "\n";
+  }
+  return out;
+}
+
 // A chain whose third hook hangs by the tip of the second falls apart, and the solve says which
 // connect, made the other way round, makes it hold (SolveResult::remedy): it names that connect
 // and its line, and the design with that one alignment turned holds indeed. A hook sliding down
@@ -783,16 +801,7 @@ TEST(Physics, AChainThatFallsApartSaysWhichConnectTurnedHolds) {
   ASSERT_GT(turned.where.line, 0);
   EXPECT_NE(r.remedy.find(fmt::format(":{})", turned.where.line)), std::string::npos) << r.remedy;
   // That line with its alignment turned: the design holds.
-  std::istringstream in(yaml);
-  std::string changed;
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (n == turned.where.line) {
-      ASSERT_EQ(line.find("alignment"), std::string::npos) << line;
-      line = line.substr(0, line.rfind('}')) + ", alignment: flip}";
-    }
-    changed += line + "\n";
-  }
+  const std::string changed = with_line_turned(yaml, turned.where.line);
   const Design fixed = load_text(changed);
   ASSERT_TRUE(fixed.feasible()) << fixed.diagnostics.format();
   EXPECT_TRUE(solve(fixed.assembly).stable) << changed;
@@ -847,19 +856,7 @@ connections:
   // The remedy's line, with its alignment turned: the design holds.
   const std::size_t colon = r.remedy.rfind(':');
   ASSERT_NE(colon, std::string::npos) << r.remedy;
-  const int turned = std::stoi(r.remedy.substr(colon + 1));
-  std::istringstream in(yaml);
-  std::string changed;
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (n == turned) {
-      ASSERT_NE(line.find("connect:"), std::string::npos) << line;
-      line = line.find(", alignment: flip") != std::string::npos
-                 ? line.replace(line.find(", alignment: flip"), 17, "")
-                 : line.substr(0, line.rfind('}')) + ", alignment: flip}";
-    }
-    changed += line + "\n";
-  }
+  const std::string changed = with_line_turned(yaml, std::stoi(r.remedy.substr(colon + 1)));
   const Design fixed = load_text(changed);
   ASSERT_TRUE(fixed.feasible()) << fixed.diagnostics.format();
   const SolveResult after = solve(fixed.assembly);

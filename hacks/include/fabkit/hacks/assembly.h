@@ -283,6 +283,8 @@ class Assembly {
   /// way on a rod), every connect made again in the order it was made and verified. None if
   /// that connection has no other way (its alignment cannot flip) or the design does not
   /// verify with it turned.
+  /// Whether connection `id` has another way round (its alignment can flip).
+  bool alignment_can_turn(ConnectionId id) const;
   std::optional<Assembly> with_alignment_turned(
       ConnectionId id,
       std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
