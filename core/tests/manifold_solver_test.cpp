@@ -269,6 +269,54 @@ TEST(ManifoldSolver, RelaxLeavesASaddleForAMinimumInManyDimensions) {
   EXPECT_NEAR(std::abs(r.z[n - 1]), 1.0, 1e-6) << "the balance point at y = 0 is not a rest state";
 }
 
+// f = z⁴: Newton's steps only take a third off z each time (the curvature vanishes at the
+// minimum), so the last stretch to the slope tolerance creeps, lowering f less and less.
+class Quartic : public ManifoldProblem {
+ public:
+  int variables() const override { return 1; }
+  int objectives() const override { return 1; }
+  int equalities() const override { return 0; }
+  int inequalities() const override { return 0; }
+  void evaluate(const double* z, double* values, double* jacobian) override {
+    values[0] = std::pow(z[0], 4);
+    jacobian[0] = 4 * std::pow(z[0], 3);
+  }
+  bool lagrangian_hessian(const double* z,
+                          const std::vector<int>&,
+                          const Eigen::VectorXd&,
+                          Eigen::MatrixXd& hessian) override {
+    hessian = Eigen::MatrixXd::Constant(1, 1, 12 * z[0] * z[0]);
+    return true;
+  }
+};
+
+TEST(ManifoldSolver, RelaxEndsWhereItsProgressWindowGainsTooLittle) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const Eigen::VectorXd lo = Eigen::VectorXd::Constant(1, -inf);
+  const Eigen::VectorXd hi = Eigen::VectorXd::Constant(1, inf);
+  const Eigen::VectorXd start = Eigen::VectorXd::Constant(1, 1.0);
+  Quartic problem;
+  ManifoldSolver full(problem, lo, hi);
+  const ManifoldSolver::Result to_rest = full.relax(start, 500);
+  ASSERT_TRUE(to_rest.converged);
+  EXPECT_LT(std::abs(4 * std::pow(to_rest.z[0], 3)), 1e-9);
+
+  ManifoldSolverOptions o;
+  o.progress_window = 3;
+  o.least_progress = 1e-4;
+  ManifoldSolver windowed(problem, lo, hi, o);
+  const ManifoldSolver::Result started = windowed.relax(start, 500);
+  // It ended early, once three steps gained under 1e-4 together: f had fallen below that
+  // (so z below 0.1), and it was still sloping well above the tolerance.
+  EXPECT_LT(started.iterations, to_rest.iterations);
+  EXPECT_LT(std::pow(started.z[0], 4), 1e-4);
+  EXPECT_GT(std::abs(4 * std::pow(started.z[0], 3)), 1e-6);
+  // A window that gains enough never ends it early.
+  o.least_progress = 0;
+  ManifoldSolver patient(problem, lo, hi, o);
+  EXPECT_EQ(patient.relax(start, 500).iterations, to_rest.iterations);
+}
+
 // f = ½‖z − c‖², each evaluation taking `pause` (a model of an expensive step).
 class SlowBowl : public ManifoldProblem {
  public:

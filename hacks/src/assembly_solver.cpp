@@ -11,6 +11,10 @@ solvers::ManifoldSolverOptions solver_options(
   // Holding the target is only ever the settling of a start (step 1's candidates).
   o.gradient_tolerance =
       objective == Objective::kEnergyHoldingTarget ? kSettleTolerance : kGradientTolerance;
+  if (objective == Objective::kEnergyHoldingTarget) {
+    o.progress_window = kSettleWindow;
+    o.least_progress = kSettleProgressMm;
+  }
   o.feasibility_tolerance = kClosureTolerance;
   o.projection_tolerance = kProjectionTolerance;
   o.inequality_margin = kInequalityMargin;

@@ -791,6 +791,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
   Active act;
   Eigen::VectorXd rg, lambda, c;
   std::optional<Eigenbasis> V;
+  std::vector<double> progress;  // f at the start of each iteration (progress_window)
   for (; it < max_iterations; ++it) {
     const auto began = Clock::now();
     if (previous) {
@@ -858,6 +859,14 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     if (stationary && lambda[0] >= 0) {
       if (release()) continue;
       break;  // a minimum (up to neutral directions)
+    }
+    if (options_.progress_window > 0) {
+      progress.push_back(cur.f);
+      const auto window = static_cast<std::size_t>(options_.progress_window);
+      if (progress.size() > window &&
+          progress[progress.size() - 1 - window] - cur.f < options_.least_progress) {
+        break;  // creeping: the caller goes on from here
+      }
     }
 
     auto step_for = [&](double mu) {

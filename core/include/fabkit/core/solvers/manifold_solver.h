@@ -113,6 +113,11 @@ struct ManifoldSolverOptions {
   /// Longest step (scaled units, ≈ mm or degrees) along neutral directions with a slope, and
   /// of any step: relax() walks, it does not jump.
   double max_step = 50;
+  /// relax() also ends once `progress_window` iterations in a row have together lowered the
+  /// objective by less than `least_progress` (0: never). For a run that is only the start of
+  /// another, which goes on from wherever it ends.
+  int progress_window = 0;
+  double least_progress = 0;
   /// Escapes from stationary points that are not minima, before giving up.
   int max_escapes = 20;
   /// From this many free coordinates, each gauge pair (ManifoldProblem::gauge_pairs) whose two
