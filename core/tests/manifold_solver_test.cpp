@@ -317,6 +317,39 @@ TEST(ManifoldSolver, RelaxEndsWhereItsProgressWindowGainsTooLittle) {
   EXPECT_EQ(patient.relax(start, 500).iterations, to_rest.iterations);
 }
 
+// h = (1 + z², (z − 3)/100) = 0 has no solution: ‖h‖² has its least positive value near
+// z = 0, which Levenberg-Marquardt approaches step by step, each lowering ‖h‖² a little.
+class UnclosableGap : public ManifoldProblem {
+ public:
+  int evaluations = 0;
+  int variables() const override { return 1; }
+  int objectives() const override { return 1; }
+  int equalities() const override { return 2; }
+  int inequalities() const override { return 0; }
+  void evaluate(const double* z, double* values, double* jacobian) override {
+    ++evaluations;
+    values[0] = 0;
+    values[1] = 1 + z[0] * z[0];
+    values[2] = (z[0] - 3) / 100;
+    jacobian[0] = 0;
+    jacobian[1] = 2 * z[0];
+    jacobian[2] = 0.01;
+  }
+};
+
+TEST(ManifoldSolver, CloseGivesUpOnAGapThatStopsHalving) {
+  const double inf = std::numeric_limits<double>::infinity();
+  UnclosableGap problem;
+  ManifoldSolver solver(
+      problem, Eigen::VectorXd::Constant(1, -inf), Eigen::VectorXd::Constant(1, inf));
+  Eigen::VectorXd z = Eigen::VectorXd::Constant(1, 10.0);
+  EXPECT_FALSE(solver.close(z, 100));
+  EXPECT_DOUBLE_EQ(z[0], 10.0) << "an unclosed start is left as it was";
+  // The gap halves while z falls from 10 to about 1, then barely moves: ten iterations after
+  // that it is abandoned, not followed until its steps stop lowering it.
+  EXPECT_LE(problem.evaluations, 35);  // 47 when followed until its steps stop lowering it
+}
+
 // f = ½‖z − c‖², each evaluation taking `pause` (a model of an expensive step).
 class SlowBowl : public ManifoldProblem {
  public:

@@ -553,6 +553,13 @@ bool ManifoldSolver::close(Eigen::VectorXd& z0, int max_iterations) {
   Point cur = evaluate(z0.cwiseMax(lo_).cwiseMin(hi_));
   double mu = 1e-3;
   Clock::duration last{};
+  // Levenberg-Marquardt closes a gap it can reach superlinearly; one that has not halved ‖h‖²
+  // in ten iterations is creeping towards a gap it will not close (parts starting deep inside
+  // each other, their contact rows unmet; a random start of a long cycle), as the closure
+  // search's starts are judged.
+  constexpr std::size_t kStallWindow = 10;
+  constexpr double kStallFactor = 0.5;
+  std::vector<double> gaps;  // ‖h‖² after each iteration
   for (int it = 0; it < max_iterations; ++it) {
     if (cur.h.size() == 0 || cur.h.cwiseAbs().maxCoeff() < options_.projection_tolerance) break;
     if (no_time_for(last)) return false;
@@ -581,6 +588,11 @@ bool ManifoldSolver::close(Eigen::VectorXd& z0, int max_iterations) {
     }
     if (!moved) return false;
     last = Clock::now() - began;
+    gaps.push_back(cur.h.squaredNorm());
+    if (gaps.size() > kStallWindow &&
+        gaps.back() > kStallFactor * gaps[gaps.size() - 1 - kStallWindow]) {
+      return false;
+    }
   }
   if (!project(cur)) return false;
   z0 = cur.z;
