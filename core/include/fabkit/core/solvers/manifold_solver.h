@@ -278,9 +278,18 @@ class ManifoldSolver {
   /// The fold of act.free (large models) and the basis of the motions `kept_rows` (the kept
   /// constraint rows on act.free) allow.
   void set_basis(const Eigen::MatrixXd& kept_rows, Active& act) const;
+  /// Ends a Newton run once `window` iterations in a row have together lowered the objective
+  /// by less than `least` (window 0: never).
+  struct ProgressFloor {
+    int window = 0;
+    double least = 0;
+  };
   /// relax(); with `small_curvatures`, curvatures below the neutral threshold keep their value
   /// where the objective slopes along them (fit()'s Newton finish) instead of counting as 0.
-  Result newton(const Eigen::VectorXd& z0, int max_iterations, bool small_curvatures);
+  Result newton(const Eigen::VectorXd& z0,
+                int max_iterations,
+                bool small_curvatures,
+                ProgressFloor floor);
   Eigen::VectorXd multipliers(const Point& p,
                               const std::vector<int>& free,
                               const std::vector<int>& kept) const;
