@@ -354,6 +354,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     const Problem problem = group_problem(g);
     std::optional<GroupOutcome> best;
     double best_error = 0;
+    int best_start = 0;
     std::vector<std::vector<Mat4>> relaxed_from;  // the settled starts relaxed so far
     // Whether a candidate settled where an earlier one did (then it relaxes the same).
     auto settled_again = [&](std::size_t c) {
@@ -373,12 +374,21 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       // What holds first; then what passes through nothing; then the nearest the target.
       const bool apart = o.overlap <= kPenetrationToleranceMm;
       const bool best_apart = best && best->overlap <= kPenetrationToleranceMm;
-      const bool better =
-          !best || (holds(o) && !holds(*best)) ||
-          (holds(o) == holds(*best) && (apart != best_apart ? apart : error < best_error - 1e-9));
+      // Resting as near as the best (within kEquallyNear) is a tie, which the earlier start
+      // wins (the verified configuration, then the guided start, then the random ones in
+      // order): where a family of configurations rests equally near (the toothbrush holder's
+      // clip may grip the brush anywhere along a stretch of its handle), which one a random
+      // start lands on, and by how little it differs, is not a reason to move the answer.
+      const int start = step1.candidates[c].start;
+      const bool tie = best && std::abs(error - best_error) <= kEquallyNear;
+      const bool better = !best || (holds(o) && !holds(*best)) ||
+                          (holds(o) == holds(*best) && (apart != best_apart ? apart
+                                                        : tie               ? start < best_start
+                                                                            : error < best_error));
       if (better) {
         best = std::move(o);
         best_error = error;
+        best_start = start;
         chosen_candidate = static_cast<int>(c);
       }
     };

@@ -216,7 +216,7 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     bool seen = false;
     for (const std::vector<Mat4>& other : seen_frames) seen = seen || same_poses(frames, other);
     if (seen) return;
-    best.candidates.push_back({r.x, e, !r.converged});
+    best.candidates.push_back({r.x, e, !r.converged, start});
     seen_frames.push_back(frames);
     if (score(e) < best_score - 1e-9) {
       best_score = score(e);

@@ -67,6 +67,7 @@ struct Step1Result {
     std::vector<double> x;
     PoseError error;
     bool hit_iteration_limit = false;
+    int start = 0;  ///< the start it came from (0: the verified configuration)
   };
   std::vector<Candidate> candidates;
 };
