@@ -1,5 +1,8 @@
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
+#include <mutex>
 #include <numbers>
 #include <optional>
 
@@ -233,35 +236,66 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   // threads finished them in, and a start after one that reached the target is not taken.
   const int starts = std::max(1, o.target_starts);
   std::vector<std::optional<StepResult>> fits(static_cast<std::size_t>(starts));
-  int first = 1;  // the first start after the verified one still to fit
   if (thread_count(o.threads) > 1 && starts > 1 &&
       static_cast<int>(vars.index.size()) >= kGuidedBesideFrom) {
     // The guided start does not depend on the verified start's fit (it gives nothing up), so
     // it runs beside it, called off if the verified start reaches the target (then it is not
-    // wanted).
+    // wanted). The random starts depend on the verified start's fit alone (whether it reached
+    // the target, and how far they may fall behind it), so each thread goes on to them as soon
+    // as that is known and its own start is done: the reading nook's verified start ends long
+    // before its guided one, and its core took up the random starts then, not after both.
     Problem guided = p;
     const auto guided_clock = std::make_shared<const StopClock>(p.stop);
     guided.stop = guided_clock;
-    run_in_parallel(2, o.threads, [&](int k) {
-      if (k == 1) {
+    std::mutex planning;
+    std::condition_variable planned_signal;
+    bool planned = false;
+    int last = starts;
+    double give_up = 0;
+    std::atomic<int> next{2};
+    const int workers = std::max(2, std::min(thread_count(o.threads), starts));
+    run_in_parallel(workers, o.threads, [&](int k) {
+      if (k == 0) {
+        // Whatever happens to the verified start's fit, the plan is published (a thread that
+        // waits for it must not wait for ever).
+        struct Publish {
+          std::mutex& m;
+          std::condition_variable& cv;
+          bool& flag;
+          ~Publish() {
+            {
+              const std::lock_guard lock(m);
+              flag = true;
+            }
+            cv.notify_all();
+          }
+        } publish{planning, planned_signal, planned};
+        fits[0] = fit_from_start(p, vars, o, 0, 0.0);
+        take(0, fits[0]);
+        if (reached()) guided_clock->call_off();
+        last = reached() ? std::min(3, starts) : starts;
+        give_up = 5 * best_score;
+      } else if (k == 1) {
         fits[1] = fit_from_start(guided, vars, o, 1, 0.0);
-        return;
       }
-      fits[0] = fit_from_start(p, vars, o, 0, 0.0);
-      take(0, fits[0]);
-      if (reached()) guided_clock->call_off();
+      {
+        std::unique_lock lock(planning);
+        planned_signal.wait(lock, [&] { return planned; });
+      }
+      for (int start = next++; start < last; start = next++) {
+        fits[static_cast<std::size_t>(start)] = fit_from_start(p, vars, o, start, give_up);
+      }
     });
-    first = 2;
   } else {
     fits[0] = fit_from_start(p, vars, o, 0, 0.0);
     take(0, fits[0]);
+    const int first = reached() ? 2 : 1;  // the first start after the verified one to fit
+    const int last = reached() ? std::min(3, starts) : starts;
+    const double give_up = 5 * best_score;
+    run_in_parallel(std::max(0, last - first), o.threads, [&](int k) {
+      fits[static_cast<std::size_t>(first + k)] = fit_from_start(p, vars, o, first + k, give_up);
+    });
   }
-  if (reached()) first = 2;
-  const int last = reached() ? std::min(3, starts) : starts;
-  const double give_up = 5 * best_score;
-  run_in_parallel(std::max(0, last - first), o.threads, [&](int k) {
-    fits[static_cast<std::size_t>(first + k)] = fit_from_start(p, vars, o, first + k, give_up);
-  });
   for (int start = 1; start < starts; ++start) {
     if (start == 1 && reached()) continue;
     if (start > 2 && reached()) break;
