@@ -5,6 +5,8 @@
 #include <mutex>
 #include <numbers>
 #include <optional>
+#include <tuple>
+#include <utility>
 
 #include "fabkit/core/parallel.h"
 #include "random.h"
@@ -236,6 +238,12 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   // threads finished them in, and a start after one that reached the target is not taken.
   const int starts = std::max(1, o.target_starts);
   std::vector<std::optional<StepResult>> fits(static_cast<std::size_t>(starts));
+  // What the random starts depend on, the verified start's fit alone: the start after the last
+  // to run (only the half-turn start once the target is reached) and how far behind it a
+  // random start gives up (f = ½‖r‖²).
+  auto random_plan = [&] {
+    return std::pair(reached() ? std::min(3, starts) : starts, 5 * best_score);
+  };
   if (thread_count(o.threads) > 1 && starts > 1 &&
       static_cast<int>(vars.index.size()) >= kGuidedBesideFrom) {
     // The guided start does not depend on the verified start's fit (it gives nothing up), so
@@ -273,8 +281,7 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
         fits[0] = fit_from_start(p, vars, o, 0, 0.0);
         take(0, fits[0]);
         if (reached()) guided_clock->call_off();
-        last = reached() ? std::min(3, starts) : starts;
-        give_up = 5 * best_score;
+        std::tie(last, give_up) = random_plan();
       } else if (k == 1) {
         fits[1] = fit_from_start(guided, vars, o, 1, 0.0);
       }
@@ -290,8 +297,9 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     fits[0] = fit_from_start(p, vars, o, 0, 0.0);
     take(0, fits[0]);
     const int first = reached() ? 2 : 1;  // the first start after the verified one to fit
-    const int last = reached() ? std::min(3, starts) : starts;
-    const double give_up = 5 * best_score;
+    int last = starts;
+    double give_up = 0;
+    std::tie(last, give_up) = random_plan();
     run_in_parallel(std::max(0, last - first), o.threads, [&](int k) {
       fits[static_cast<std::size_t>(first + k)] = fit_from_start(p, vars, o, first + k, give_up);
     });

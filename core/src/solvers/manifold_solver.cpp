@@ -70,6 +70,13 @@ Eigen::VectorXd ManifoldSolver::rows(const Eigen::VectorXd& v, const std::vector
 
 namespace {
 
+// The value `window` steps before the last of `history` (none while it is shorter): the runs
+// that stop when they stall or crawl compare it with where they are now.
+std::optional<double> window_ago(const std::vector<double>& history, std::size_t window) {
+  if (history.size() <= window) return std::nullopt;
+  return history[history.size() - 1 - window];
+}
+
 // The rank a column-pivoted QR reveals: pivots above 10⁻⁹ of the largest (and 10⁻¹²), as an
 // SVD would at that tolerance (redundant closure rows leave pivots at round-off).
 int revealed_rank(const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr) {
@@ -589,10 +596,8 @@ bool ManifoldSolver::close(Eigen::VectorXd& z0, int max_iterations) {
     if (!moved) return false;
     last = Clock::now() - began;
     gaps.push_back(cur.h.squaredNorm());
-    if (gaps.size() > kStallWindow &&
-        gaps.back() > kStallFactor * gaps[gaps.size() - 1 - kStallWindow]) {
-      return false;
-    }
+    const std::optional<double> before = window_ago(gaps, kStallWindow);
+    if (before && gaps.back() > kStallFactor * *before) return false;
   }
   if (!project(cur)) return false;
   z0 = cur.z;
@@ -694,8 +699,8 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
     if (!moved) break;
     last = Clock::now() - began;
     history.push_back(cur.f);
-    if (history.size() > kCrawlWindow &&
-        history[history.size() - 1 - kCrawlWindow] - cur.f < kCrawlDecrease * cur.f) {
+    const std::optional<double> before = window_ago(history, kCrawlWindow);
+    if (before && *before - cur.f < kCrawlDecrease * cur.f) {
       crawling = true;
       ++it;
       break;
@@ -884,11 +889,9 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     }
     if (floor.window > 0) {
       progress.push_back(cur.f);
-      const auto window = static_cast<std::size_t>(floor.window);
-      if (progress.size() > window &&
-          progress[progress.size() - 1 - window] - cur.f < floor.least) {
-        break;  // creeping: the caller goes on from here
-      }
+      const std::optional<double> before =
+          window_ago(progress, static_cast<std::size_t>(floor.window));
+      if (before && *before - cur.f < floor.least) break;  // creeping: the caller goes on
     }
 
     auto step_for = [&](double mu) {

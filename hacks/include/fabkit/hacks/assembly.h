@@ -278,13 +278,13 @@ class Assembly {
   std::optional<Assembly> closed_in_canonical_order(
       const std::vector<ConnectRequest>& missed,
       std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
+  /// Whether connection `id` has another way round (its alignment can flip).
+  bool alignment_can_turn(ConnectionId id) const;
   /// This assembly with connection `id` made the other way round (its alignment turned:
   /// default ↔ flip; two hooks hung through each other the other way, a hook facing the other
   /// way on a rod), every connect made again in the order it was made and verified. None if
   /// that connection has no other way (its alignment cannot flip) or the design does not
   /// verify with it turned.
-  /// Whether connection `id` has another way round (its alignment can flip).
-  bool alignment_can_turn(ConnectionId id) const;
   std::optional<Assembly> with_alignment_turned(
       ConnectionId id,
       std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
