@@ -825,12 +825,14 @@ std::string with_line_turned(const std::string& yaml, int line) {
   return out;
 }
 
-// A chain whose third hook hangs by the tip of the second falls apart, and the solve says which
+// A chain whose second hook hangs by the tip of the third falls apart, and the solve says which
 // connect, made the other way round, makes it hold (SolveResult::remedy): it names that connect
 // and its line, and the design with that one alignment turned holds indeed. A hook sliding down
-// a tilted rod has nothing to turn that helps: no remedy is claimed.
+// a tilted rod has nothing to turn that helps: no remedy is claimed. (The chain of four hooks
+// this test used first, 92.8 mm between the rods, holds since its contact runs no longer carry
+// links through pairs they did not watch: its third hook rests against the right rod.)
 TEST(Physics, AChainThatFallsApartSaysWhichConnectTurnedHolds) {
-  const std::string yaml = medium_chain(4, 2 * 46.381193894997025, -33.6291025558724, false);
+  const std::string yaml = medium_chain(3, 2 * 43.44200941059181, 16.6696162711421, false);
   const Design d = load_text(yaml);
   ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
   const SolveResult r = solve(d.assembly);
@@ -1024,6 +1026,29 @@ TEST(Physics, ALongSlackSpanSagsWhateverTheSeed) {
     lowest.push_back(low);
   }
   for (double low : lowest) EXPECT_NEAR(low, lowest.front(), 1.0);
+}
+
+// The reading nook rests with nothing passing through for other seeds than the default too.
+// With seeds 2 and 5 its two chains ended 15-45 mm inside each other ("parts pass through each
+// other"): a relaxation with contact rows that swung its links farther than the pairs it
+// watched carried them through pairs it did not watch, and then could not go on from there
+// (no run with those pairs' rows can start where they are inside each other), so the plain
+// run's result stood. Now it runs again from its start with them watched. (Seeds 3 and 7 still
+// end "did not converge", 4, 6 and 8 passing through: docs/gallery.md.)
+TEST(Physics, TheReadingNookRestsApartWithOtherSeeds) {
+  for (std::uint64_t seed : {2, 5}) {
+    SCOPED_TRACE(seed);
+    DesignOptions design_options;
+    design_options.verify.seed = seed;
+    const Design d = load_design_text(
+        read_example("reading_nook"), "reading_nook.yaml", PartsLibrary::builtin(), design_options);
+    ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+    SolveOptions options;
+    options.seed = seed;
+    const SolveResult r = solve(d.assembly, options);
+    EXPECT_TRUE(r.stable) << r.summary();
+    EXPECT_LE(r.max_penetration_mm, 0.5) << r.summary();
+  }
 }
 
 // Slack spans of other lengths and widths come to rest too. Their relaxations used to end at
