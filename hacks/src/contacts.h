@@ -83,10 +83,10 @@ class ContactModel {
 inline constexpr double kContactWatchMm = 25.0;
 /// Deeper than this (mm) counts as passing through: the verdict reports it.
 inline constexpr double kPenetrationToleranceMm = 0.5;
-/// Iterations of a relaxation with contact rows, and how many times it is repeated with the
-/// pairs it came near (deterministic bounds on the cost of contacts). A run that swings parts
-/// far (the reading nook's hoop turning 75°) meets new pairs round after round: its runs came
-/// apart in the fourth.
+/// Iterations of a relaxation with contact rows, and how many times it is run, each time with
+/// the pairs the last run came near added (deterministic bounds on the cost of contacts). A
+/// run that swings parts far (the reading nook's hoop turning 75°) meets new pairs run after
+/// run: its runs came apart in the fourth.
 inline constexpr int kContactIterations = 150;
 inline constexpr int kContactRounds = 5;
 /// Pieces within this (mm) of each other touch (listed as contacts in result.json).

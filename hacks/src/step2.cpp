@@ -86,11 +86,14 @@ constexpr double kUnfoldGainMm = 0.05;
 
 }  // namespace
 
-void watch_contacts(Problem& p, const std::vector<double>& x) {
+void watch_contacts(Problem& p, const std::vector<double>& x, double* deepest) {
   p.watched.clear();
+  if (deepest) *deepest = 0;
   if (!p.contacts) return;
-  p.watched =
-      p.contacts->watched_pairs(p.assembly->part_frames(x), moving_parts(p), kContactWatchMm);
+  std::vector<double> distances;
+  p.watched = p.contacts->watched_pairs(
+      p.assembly->part_frames(x), moving_parts(p), kContactWatchMm, deepest ? &distances : nullptr);
+  for (double d : distances) *deepest = std::max(*deepest, -d);
 }
 
 Overlap deepest_overlap(const Problem& p, const std::vector<double>& x, bool parts_only) {
@@ -110,10 +113,11 @@ Overlap deepest_overlap(const Problem& p, const std::vector<double>& x, bool par
   return out;
 }
 
-bool watch_more_contacts(Problem& p, const std::vector<double>& x) {
+bool watch_more_contacts(Problem& p, const std::vector<double>& x, double* deepest) {
+  if (deepest) *deepest = 0;
   if (!p.contacts) return false;
   Problem after = p;
-  watch_contacts(after, x);
+  watch_contacts(after, x, deepest);
   bool grown = false;
   for (const PiecePair& w : after.watched) {
     const bool known = std::find(p.watched.begin(), p.watched.end(), w) != p.watched.end();

@@ -90,10 +90,11 @@ std::vector<double> settle_candidate(const Problem& p,
                                      const SolveOptions& o);
 
 /// Watches, as contact rows of `p`, the piece pairs near each other at `x` (at least one of
-/// them a part of p's group). Without a contact model nothing is watched.
-void watch_contacts(Problem& p, const std::vector<double>& x);
+/// them a part of p's group). Without a contact model nothing is watched. With `deepest`, how
+/// deep parts are inside each other at `x` (deepest_overlap's depth, from the same queries).
+void watch_contacts(Problem& p, const std::vector<double>& x, double* deepest = nullptr);
 /// Adds to p's watched pairs those near each other at `x`; true if there were new ones.
-bool watch_more_contacts(Problem& p, const std::vector<double>& x);
+bool watch_more_contacts(Problem& p, const std::vector<double>& x, double* deepest = nullptr);
 
 /// The deepest interpenetration at `x` of parts of p's group with anything (mm, 0 when
 /// nothing passes through anything), and the pair.
@@ -123,22 +124,22 @@ inline int iterations_for(const Problem& q, const SolveOptions& o) {
 
 /// Runs `run(problem, start)` with the contact pairs near `x` watched; a part can move
 /// farther than the watch distance in one run, so while the result comes near pairs not yet
-/// watched, they are added and it runs again from there (rarely more than twice).
+/// watched, they are added and it runs again: from there, or from `x` where it ended deeper
+/// inside something than `x` was (up to kContactRounds runs in all).
 template <class Run>
 StepResult with_contacts(Problem& p, const std::vector<double>& x, Run run) {
-  watch_contacts(p, x);
-  StepResult r = run(p, x);
   // How deep parts are inside each other at x (no run from it needs to go deeper).
-  std::optional<double> start_depth;
+  double start_depth = 0;
+  watch_contacts(p, x, &start_depth);
+  StepResult r = run(p, x);
   for (int round = 1; round < kContactRounds && p.contacts && r.closed; ++round) {
-    if (!watch_more_contacts(p, r.x)) break;
+    double end_depth = 0;
+    if (!watch_more_contacts(p, r.x, &end_depth)) break;
     // Pairs it did not watch, the run may have carried through each other (the reading nook's
     // two chains, 33 mm deep, with seeds other than 1): from there no run with their rows can
     // even start, and real parts could not have got there. Where it ended deeper in something
     // than its start was, it runs again from the start with them watched.
-    if (!start_depth) start_depth = deepest_overlap(p, x).depth;
-    const double end_depth = deepest_overlap(p, r.x).depth;
-    const bool through = end_depth > kPenetrationToleranceMm && end_depth > *start_depth;
+    const bool through = end_depth > kPenetrationToleranceMm && end_depth > start_depth;
     StepResult again = run(p, through ? x : r.x);
     // A run that cannot start leaves the last one standing (what it passes through is then
     // measured and reported, and compared with the plain run's).
