@@ -125,14 +125,18 @@ inline int iterations_for(const Problem& q, const SolveOptions& o) {
 /// Runs `run(problem, start)` with the contact pairs near `x` watched; a part can move
 /// farther than the watch distance in one run, so while the result comes near pairs not yet
 /// watched, they are added and it runs again: from there, or from `x` where it ended deeper
-/// inside something than `x` was (up to kContactRounds runs in all).
+/// inside something than `x` was (kContactRounds runs in all, kContactRestartedRounds once it
+/// has started again).
 template <class Run>
 StepResult with_contacts(Problem& p, const std::vector<double>& x, Run run) {
   // How deep parts are inside each other at x (no run from it needs to go deeper).
   double start_depth = 0;
   watch_contacts(p, x, &start_depth);
   StepResult r = run(p, x);
-  for (int round = 1; round < kContactRounds && p.contacts && r.closed; ++round) {
+  bool restarted = false;
+  for (int round = 1;
+       round < (restarted ? kContactRestartedRounds : kContactRounds) && p.contacts && r.closed;
+       ++round) {
     double end_depth = 0;
     if (!watch_more_contacts(p, r.x, &end_depth)) break;
     // Pairs it did not watch, the run may have carried through each other (the reading nook's
@@ -140,6 +144,7 @@ StepResult with_contacts(Problem& p, const std::vector<double>& x, Run run) {
     // even start, and real parts could not have got there. Where it ended deeper in something
     // than its start was, it runs again from the start with them watched.
     const bool through = end_depth > kPenetrationToleranceMm && end_depth > start_depth;
+    restarted = restarted || through;
     StepResult again = run(p, through ? x : r.x);
     // A run that cannot start leaves the last one standing (what it passes through is then
     // measured and reported, and compared with the plain run's).
