@@ -76,15 +76,15 @@ std::string Assembly::label(PartId id, PrimitiveId primitive) const {
   return fmt::format("{}.{}", label(id), p.primitive(primitive).name);
 }
 
-Assembly Assembly::shifted(const Vec3& shift) const {
+Assembly Assembly::moved(const std::function<Frame(const Frame&)>& place) const {
   Assembly out = *this;
   for (PartNode& n : out.parts_) {
     if (!n.environment) continue;
-    n.frame.pos += shift;
+    n.frame = place(n.frame);
     n.placement = Rigid<double>::from_matrix(n.frame.matrix());
   }
-  if (out.target_) out.target_->frame.pos += shift;
-  for (AddCall& a : out.adds_) a.frame.pos += shift;
+  if (out.target_) out.target_->frame = place(out.target_->frame);
+  for (AddCall& a : out.adds_) a.frame = place(a.frame);
   return out;
 }
 

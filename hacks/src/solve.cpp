@@ -95,10 +95,6 @@ bool turns_target_about_vertical(const Assembly& a,
   return turn.angle() > 1e-9 && std::abs(turn.axis().z()) > 0.99;
 }
 
-// The grid the world is shifted on before solving (below): designs within 5 m of the origin,
-// the gallery's among them, are solved where they stand.
-constexpr double kWorldGridMm = 10000;
-
 SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& options);
 SolveResult solve_placed(const Assembly& assembly, const SolveOptions& options);
 
@@ -190,30 +186,90 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
 
 namespace {
 
-// A design far from the world's origin is solved shifted near it, by whole multiples of 10 m
-// (exact in floating point): the parameters do not change with a shift, but the solver's
-// round-off does. 100 m out, the slope of a contact row along motions that move both its parts
-// is the difference of two world-sized velocities, round-off of 10⁻¹¹ that the projection
-// took for a slope and divided a residual by (the paper towel holder ended "did not
-// converge"). Part frames and the energy are shifted back.
-SolveResult solve_placed(const Assembly& assembly, const SolveOptions& options) {
+// Where a design stands in the world says nothing physical (gravity is all that has a
+// direction), but the solver's round-off follows it, and a design with several rest states
+// (the reading nook) reached different ones, or none, moved and turned as a whole: 5 of 12
+// random placements of the nook did not come to rest. So every design is solved in its own
+// placement: the centre of its environments at the origin and the heading of the first of
+// them (by name) along x, its frames rounded to a fine grid (kPlacementGridMm, and
+// kPlacementGridTurn on the rotations' quaternions) so that a design moved and turned as a
+// whole gives the solver the same numbers, bit for bit. Far from the origin this also keeps
+// the round-off small: 100 m out, the slope of a contact row along motions that move both its
+// parts is the difference of two world-sized velocities (the paper towel holder ended "did
+// not converge" there). Part frames and the energy are placed back.
+constexpr double kPlacementGridMm = 1.0 / (1 << 20);    // about 10⁻⁶ mm
+constexpr double kPlacementGridTurn = 1.0 / (1 << 30);  // quaternion components, ≈10⁻⁹ rad
+
+double on_grid(double v, double grid) {
+  return std::round(v / grid) * grid;
+}
+
+// The motion that places a design in its own frame (see above): p ↦ R·(p − centre).
+struct OwnPlacement {
+  Mat3 turn = Mat3::Identity();
   Vec3 centre = Vec3::Zero();
+};
+
+OwnPlacement own_placement(const Assembly& assembly) {
+  OwnPlacement own;
   int environments = 0;
-  for (const PartNode& n : assembly.nodes()) {
+  std::optional<std::pair<std::string, Mat3>> first;  // the environment first by name
+  for (int i = 0; i < assembly.part_count(); ++i) {
+    const PartNode& n = assembly.node(PartId{i});
     if (!n.environment) continue;
-    centre += n.frame.pos;
+    own.centre += n.frame.pos;
     ++environments;
+    const std::string name = assembly.label(PartId{i});
+    if (!first || name < first->first) first.emplace(name, n.placement.R);
   }
-  if (environments > 0) centre /= environments;
-  const Vec3 shift = -kWorldGridMm * (centre / kWorldGridMm).array().round().matrix();
-  if (shift.isZero() || !shift.allFinite()) return solve_where_it_stands(assembly, options);
-  SolveResult result = solve_where_it_stands(assembly.shifted(shift), options);
+  if (environments == 0 || !own.centre.allFinite()) return {};
+  own.centre /= environments;
+  // Its heading: the first of its z, x and y axes with a horizontal reach of at least a half
+  // (a turn about the vertical keeps every axis's reach; of a rotation's three columns one
+  // reaches at least √(2/3)). z first: a rod's or a tube's axis, which spinning it about
+  // that axis (nothing physical either) leaves where it is.
+  for (const int axis : {2, 0, 1}) {
+    const Vec3 a = first->second.col(axis);
+    if (a.head<2>().norm() < 0.5) continue;
+    own.turn = Eigen::AngleAxisd(-std::atan2(a.y(), a.x()), Vec3::UnitZ()).toRotationMatrix();
+    break;
+  }
+  return own;
+}
+
+// `f` placed by `own`, on the grid.
+Frame placed(const OwnPlacement& own, const Frame& f) {
+  const Mat4 m = f.matrix();
+  Vec3 pos = own.turn * (m.topRightCorner<3, 1>() - own.centre);
+  for (int k = 0; k < 3; ++k) pos[k] = on_grid(pos[k], kPlacementGridMm);
+  Eigen::Quaterniond q(Mat3(own.turn * m.topLeftCorner<3, 3>()));
+  q.coeffs() = q.coeffs().unaryExpr([](double c) { return on_grid(c, kPlacementGridTurn); });
+  q.normalize();  // the rotation's entries are products of two components: q and −q agree
+  Mat4 out = Mat4::Identity();
+  out.topLeftCorner<3, 3>() = q.toRotationMatrix();
+  out.topRightCorner<3, 1>() = pos;
+  return Frame::from_matrix(out);
+}
+
+SolveResult solve_placed(const Assembly& assembly, const SolveOptions& options) {
+  const OwnPlacement own = own_placement(assembly);
+  SolveResult result = solve_where_it_stands(
+      assembly.moved([&](const Frame& f) { return placed(own, f); }), options);
+  // Back where the design stands: the parameters are relative to the parts, so the design's
+  // own frames at them are the answer (the environments where the design put them, not where
+  // the grid did).
+  if (result.parts.size() == assembly.nodes().size() &&
+      result.parameters.size() == static_cast<std::size_t>(assembly.parameter_count())) {
+    const std::vector<Mat4> frames = assembly.part_frames(result.parameters);
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      result.parts[i].frame = Frame::from_matrix(frames[i]);
+    }
+  }
   double mass = 0;
   for (const PartNode& n : assembly.nodes()) {
     if (!n.environment) mass += std::max(0.0, n.part->mass);
   }
-  for (SolvedPart& part : result.parts) part.frame.pos -= shift;
-  result.energy -= shift.z() * mass;
+  result.energy += own.centre.z() * mass;
   return result;
 }
 

@@ -110,10 +110,10 @@ Outcome solve_text(const std::string& yaml) {
 }
 
 // Moving the world by a turn about the vertical and a shift changes nothing physical: the
-// verdict, the potential (less the shift's share), the target's tilt and every part's height.
-// Where a rest state is one of a family (a hook free to slide on a level rod), the member
-// found may differ, so horizontal places are not compared; heights do not change along
-// such motions.
+// verdict, the potential (less the shift's share), the target's tilt and where every part
+// rests, moved with the world — even where a rest state is one of a family (a hook free to
+// slide on a level rod) or one of several (the reading nook, which rested differently or not
+// at all in 5 of 12 random placements until every design was solved in its own placement).
 TEST(Physics, AnswersDoNotDependOnWhereTheWorldIs) {
   // One motion chosen by hand and three drawn (seeded): any turn about the vertical, shifts
   // of metres.
@@ -125,7 +125,9 @@ TEST(Physics, AnswersDoNotDependOnWhereTheWorldIs) {
     const double x = across(rng), y = across(rng), z = up(rng), c = turn(rng);
     worlds.emplace_back(Vec3(x, y, z), Vec3(0, 0, c));
   }
-  for (const std::string& name : gallery()) {
+  std::vector<std::string> names = gallery();
+  names.emplace_back("reading_nook");
+  for (const std::string& name : names) {
     SCOPED_TRACE(name);
     const std::string yaml = read_example(name);
     const Outcome a = solve_text(yaml);
@@ -144,9 +146,10 @@ TEST(Physics, AnswersDoNotDependOnWhereTheWorldIs) {
       // Mean height of the mass: the shift adds its height.
       EXPECT_NEAR(b.energy / b.mass - lift, a.energy / a.mass, 0.05) << a.summary << b.summary;
       EXPECT_NEAR(a.tilt_deg, b.tilt_deg, 0.5) << a.summary << b.summary;
-      ASSERT_EQ(a.positions.size(), b.positions.size());
-      for (std::size_t i = 0; i < a.positions.size(); ++i) {
-        EXPECT_NEAR(b.positions[i].z() - lift, a.positions[i].z(), 1.0) << "part " << i;
+      ASSERT_EQ(a.by_name.size(), b.by_name.size());
+      for (const auto& [part, at] : a.by_name) {
+        ASSERT_TRUE(b.by_name.count(part)) << part;
+        EXPECT_LT((b.by_name.at(part) - world.apply(at)).norm(), 0.1) << part;
       }
     }
   }
@@ -1029,14 +1032,16 @@ TEST(Physics, ALongSlackSpanSagsWhateverTheSeed) {
 }
 
 // The reading nook rests with nothing passing through for other seeds than the default too.
-// With seeds 2 and 5 its two chains ended 15-45 mm inside each other ("parts pass through each
-// other"): a relaxation with contact rows that swung its links farther than the pairs it
+// Its two chains used to end 15-45 mm inside each other with other seeds ("parts pass through
+// each other"): a relaxation with contact rows that swung its links farther than the pairs it
 // watched carried them through pairs it did not watch, and then could not go on from there
 // (no run with those pairs' rows can start where they are inside each other), so the plain
-// run's result stood. Now it runs again from its start with them watched. (Seeds 3 and 7 still
-// end "did not converge", 4, 6 and 8 passing through: docs/gallery.md.)
+// run's result stood. Now it runs again from its start with them watched; without that, seed 7
+// passes through. (Found with seeds 2 and 5 when designs were solved where they stand; in
+// their own placement seeds 2, 3 and 5 end "did not converge", 4, 6 and 8 pass through:
+// docs/gallery.md.)
 TEST(Physics, TheReadingNookRestsApartWithOtherSeeds) {
-  for (std::uint64_t seed : {2, 5}) {
+  for (std::uint64_t seed : {7}) {
     SCOPED_TRACE(seed);
     DesignOptions design_options;
     design_options.verify.seed = seed;

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -229,9 +230,9 @@ class Assembly {
   std::vector<double> available_critical_dim(PartId id, PrimitiveId primitive) const;
 
   const std::optional<Target>& target() const { return target_; }
-  /// A copy with the whole world shifted by `shift`: every environment's frame and the
-  /// target's goal (the parameters, all relative to the parts, stay as they are).
-  Assembly shifted(const Vec3& shift) const;
+  /// A copy with the whole world moved: every environment's frame and the target's goal
+  /// become `place`(frame) (the parameters, all relative to the parts, stay as they are).
+  Assembly moved(const std::function<Frame(const Frame&)>& place) const;
   /// Connections involving a primitive.
   std::vector<ConnectionId> connections_of(PartId id, PrimitiveId primitive) const;
 
