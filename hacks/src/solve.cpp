@@ -186,75 +186,11 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
 
 namespace {
 
-// Where a design stands in the world says nothing physical (gravity is all that has a
-// direction), but the solver's round-off follows it, and a design with several rest states
-// (the reading nook) reached different ones, or none, moved and turned as a whole: 5 of 12
-// random placements of the nook did not come to rest. So every design is solved in its own
-// placement: the centre of its environments at the origin and the heading of the first of
-// them (by name) along x, its frames rounded to a fine grid (kPlacementGridMm, and
-// kPlacementGridTurn on the rotations' quaternions) so that a design moved and turned as a
-// whole gives the solver the same numbers, bit for bit. Far from the origin this also keeps
-// the round-off small: 100 m out, the slope of a contact row along motions that move both its
-// parts is the difference of two world-sized velocities (the paper towel holder ended "did
-// not converge" there). Part frames and the energy are placed back.
-constexpr double kPlacementGridMm = 1.0 / (1 << 20);    // about 10⁻⁶ mm
-constexpr double kPlacementGridTurn = 1.0 / (1 << 30);  // quaternion components, ≈10⁻⁹ rad
-
-double on_grid(double v, double grid) {
-  return std::round(v / grid) * grid;
-}
-
-// The motion that places a design in its own frame (see above): p ↦ R·(p − centre).
-struct OwnPlacement {
-  Mat3 turn = Mat3::Identity();
-  Vec3 centre = Vec3::Zero();
-};
-
-OwnPlacement own_placement(const Assembly& assembly) {
-  OwnPlacement own;
-  int environments = 0;
-  std::optional<std::pair<std::string, Mat3>> first;  // the environment first by name
-  for (int i = 0; i < assembly.part_count(); ++i) {
-    const PartNode& n = assembly.node(PartId{i});
-    if (!n.environment) continue;
-    own.centre += n.frame.pos;
-    ++environments;
-    const std::string name = assembly.label(PartId{i});
-    if (!first || name < first->first) first.emplace(name, n.placement.R);
-  }
-  if (environments == 0 || !own.centre.allFinite()) return {};
-  own.centre /= environments;
-  // Its heading: the first of its z, x and y axes with a horizontal reach of at least a half
-  // (a turn about the vertical keeps every axis's reach; of a rotation's three columns one
-  // reaches at least √(2/3)). z first: a rod's or a tube's axis, which spinning it about
-  // that axis (nothing physical either) leaves where it is.
-  for (const int axis : {2, 0, 1}) {
-    const Vec3 a = first->second.col(axis);
-    if (a.head<2>().norm() < 0.5) continue;
-    own.turn = Eigen::AngleAxisd(-std::atan2(a.y(), a.x()), Vec3::UnitZ()).toRotationMatrix();
-    break;
-  }
-  return own;
-}
-
-// `f` placed by `own`, on the grid.
-Frame placed(const OwnPlacement& own, const Frame& f) {
-  const Mat4 m = f.matrix();
-  Vec3 pos = own.turn * (m.topRightCorner<3, 1>() - own.centre);
-  for (int k = 0; k < 3; ++k) pos[k] = on_grid(pos[k], kPlacementGridMm);
-  Eigen::Quaterniond q(Mat3(own.turn * m.topLeftCorner<3, 3>()));
-  q.coeffs() = q.coeffs().unaryExpr([](double c) { return on_grid(c, kPlacementGridTurn); });
-  q.normalize();  // the rotation's entries are products of two components: q and −q agree
-  Mat4 out = Mat4::Identity();
-  out.topLeftCorner<3, 3>() = q.toRotationMatrix();
-  out.topRightCorner<3, 1>() = pos;
-  return Frame::from_matrix(out);
-}
-
+// Every design is solved in its own placement (Assembly::in_own_placement): where it stands in
+// the world says nothing physical, but the solver's round-off followed it.
 SolveResult solve_placed(const Assembly& assembly, const SolveOptions& options) {
-  const OwnPlacement own = own_placement(assembly);
-  SolveResult result = solve_where_it_stands(
-      assembly.moved([&](const Frame& f) { return placed(own, f); }), options);
+  Vec3 centre = Vec3::Zero();
+  SolveResult result = solve_where_it_stands(assembly.in_own_placement(&centre), options);
   // Back where the design stands: the parameters are relative to the parts, so the design's
   // own frames at them are the answer (the environments where the design put them, not where
   // the grid did).
@@ -269,7 +205,7 @@ SolveResult solve_placed(const Assembly& assembly, const SolveOptions& options) 
   for (const PartNode& n : assembly.nodes()) {
     if (!n.environment) mass += std::max(0.0, n.part->mass);
   }
-  result.energy += own.centre.z() * mass;
+  result.energy += centre.z() * mass;
   return result;
 }
 

@@ -8,7 +8,6 @@
 
 #include <chrono>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -230,9 +229,14 @@ class Assembly {
   std::vector<double> available_critical_dim(PartId id, PrimitiveId primitive) const;
 
   const std::optional<Target>& target() const { return target_; }
-  /// A copy with the whole world moved: every environment's frame and the target's goal
-  /// become `place`(frame) (the parameters, all relative to the parts, stay as they are).
-  Assembly moved(const std::function<Frame(const Frame&)>& place) const;
+  /// The same design in its own placement, where it is verified and solved: the centre of its
+  /// environments at the origin, the heading of the first of them (by name) along x, every
+  /// environment's frame and the target's goal on a fine grid (the parameters, all relative
+  /// to the parts, mean the same there). A design moved and turned as a whole about the
+  /// vertical has the same own placement, number for number, so the solver's round-off, and
+  /// with it which of several rest states a solve reaches, no longer follows where the world
+  /// is. `centre` (optional) receives the world point placed at the origin.
+  Assembly in_own_placement(Vec3* centre = nullptr) const;
   /// Connections involving a primitive.
   std::vector<ConnectionId> connections_of(PartId id, PrimitiveId primitive) const;
 
