@@ -333,7 +333,6 @@ TEST(Deadline, AnywhereReportsOnlyTheTimeLimit) {
     }
   };
   for (const char* name : testing::kGalleryExamples) {
-    if (std::string(name) == "reading_nook") continue;  // 1 s a run: the deadline bench has it
     const std::string path = std::string(FABKIT_SOURCE_DIR) + "/examples/hacks/" + name + ".yaml";
     auto start = Clock::now();
     const Design whole = load_design(path, PartsLibrary::builtin());
