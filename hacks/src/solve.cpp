@@ -32,6 +32,9 @@ constexpr int kOtherClosingsAtOnce = 2;
 // answer the same on every machine.
 constexpr int kOtherClosingsUpTo = 64;
 constexpr int kOtherClosingStream = 2000;
+// Starts of the closure search for each of step 1's random starts when a design is solved
+// again because nothing held (solve()).
+constexpr int kHarderStartClosings = 4;
 
 // The potential at x of the parts p weighs (a group's, or the whole assembly's): Σ m·z of
 // their centres of mass (mass units · mm).
@@ -172,6 +175,29 @@ std::string remedy_for(const Assembly& assembly,
 
 SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
   SolveResult result = solve_placed(assembly, options);
+  // Step 1's random starts close their cycles with one start of the closure search (most close
+  // locally; a miss costs a start, not the answer). Where the target was not reached, the last
+  // random starts did not close (no fit), and nothing held, they are tried again with more: the
+  // paper towel holder with seed 5 closed with its broom rod through the wall, no random start
+  // closed (two eye hooks taped to one rod) and it passed through; with four starts each, two close
+  // and it rests as with seed 1. Only a design that does not hold pays (always: the reading
+  // nook's step 1 31 -> 520 ms).
+  if (result.feasible && !result.stable && result.termination != Termination::kTimeout &&
+      assembly.target() && result.step1_starts < options.target_starts &&
+      options.start_closings < kHarderStartClosings &&
+      !(result.target_step1.position_mm < kTargetReached &&
+        result.target_step1.rotation_deg < kTargetReached)) {
+    SolveOptions harder = options;
+    harder.start_closings = kHarderStartClosings;
+    harder.on_stage = nullptr;
+    const auto began = Clock::now();
+    SolveResult again = solve_placed(assembly, harder);
+    if (again.stable) {
+      again.timings = std::move(result.timings);  // the first try's stages; the second's below
+      result = std::move(again);
+    }
+    result.timings.push_back({"retry", ms_since(began)});
+  }
   if (options.seek_remedy && result.feasible && !result.stable &&
       result.termination != Termination::kTimeout) {
     const std::vector<ConnectionId> candidates = connections_to_turn(assembly, result);

@@ -134,7 +134,7 @@ std::optional<StepResult> fit_from_start(
     // The local closing failed from this start: the verification's global search (two
     // phases, stall detection) usually gets there.
     VerifyOptions v;
-    v.restarts = 1;
+    v.restarts = std::max(1, o.start_closings);
     v.stretch_start = false;
     v.deadline = o.deadline;
     const ClosureResult closed = close_cycles(a, x0, v);

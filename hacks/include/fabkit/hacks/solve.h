@@ -41,6 +41,10 @@ struct SolveOptions {
   /// A group the target does not steer that does not hold where its verified configuration
   /// rests is relaxed from up to this many other ways of closing its cycles (docs/hacks.md).
   int other_closings = 24;
+  /// Step 1: starts of the closure search for a random start whose cycles a local closing does
+  /// not close. solve() solves once more with four where the target was not reached, random
+  /// starts did not close and nothing held (docs/hacks.md, step 1).
+  int start_closings = 1;
 };
 
 /// Why the solver stopped.
