@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+
 namespace fabkit {
 
 double wrap_360(double deg) {
@@ -13,9 +16,19 @@ double wrap_360(double deg) {
 }
 
 Vec3 euler_from_rotation(const Mat3& r) {
-  const double a = std::atan2(r(2, 1), r(2, 2));
   const double b = -std::asin(std::clamp(r(2, 0), -1.0, 1.0));
-  const double c = std::atan2(r(1, 0), r(0, 0));
+  double a = 0;
+  double c = 0;
+  if (std::hypot(r(0, 0), r(1, 0)) < 1e-12) {
+    // Gimbal lock (b = ±90°: the frame's x axis is vertical): only c ∓ a is determined, and
+    // the formulas below read both from entries that are 0. With a = 0, R = Rz(c)·Ry(±90°),
+    // whose middle column is (−sin c, cos c, 0). (Without this a frame such as [30, 90, 0]
+    // came back as [0, 90, 0].)
+    c = std::atan2(-r(0, 1), r(1, 1));
+  } else {
+    a = std::atan2(r(2, 1), r(2, 2));
+    c = std::atan2(r(1, 0), r(0, 0));
+  }
   return {wrap_360(a * kRadToDeg), wrap_360(b * kRadToDeg), wrap_360(c * kRadToDeg)};
 }
 

@@ -43,6 +43,34 @@ TEST(Frame, EulerRoundTripReducesModulo360) {
   EXPECT_TRUE(g.pos.isApprox(f.pos));
 }
 
+// At gimbal lock (the frame's x axis vertical, the middle angle ±90°) only the difference or
+// sum of the other two angles is determined; the frame must still come back as the same
+// rotation. (Environments written with rot [a, 90, c] are common: a rail along x.)
+TEST(Frame, EulerRoundTripHoldsAtGimbalLock) {
+  for (const double b : {90.0, -90.0, 270.0}) {
+    for (const double a : {0.0, 30.0, -75.0, 180.0}) {
+      for (const double c : {0.0, 45.0, 200.0}) {
+        const Frame f(Vec3(1, -2, 3), Vec3(a, b, c));
+        expect_matrix_near(Frame::from_matrix(f.matrix()).matrix(), f.matrix(), 1e-12);
+      }
+    }
+  }
+  // Exactly locked, as products of exact quarter turns give it (cos 90° is not 0 in floating
+  // point, so frames built from angles are a hair away from the lock): x axis straight down.
+  for (const double c : {0.0, 30.0, 135.0, 250.0}) {
+    const double cs = std::cos(c * kDegToRad), sn = std::sin(c * kDegToRad);
+    Mat4 m = Mat4::Identity();
+    m.topLeftCorner<3, 3>() << 0, -sn, cs, 0, cs, sn, -1, 0, 0;
+    expect_matrix_near(Frame::from_matrix(m).matrix(), m, 1e-12);
+    m.topLeftCorner<3, 3>() << 0, -sn, -cs, 0, cs, -sn, 1, 0, 0;  // x axis straight up
+    expect_matrix_near(Frame::from_matrix(m).matrix(), m, 1e-12);
+  }
+  // Composition through a lock: a turn about the vertical of a rail along x.
+  const Frame turn(Vec3::Zero(), Vec3(0, 0, 37));
+  const Frame rail(Vec3(5, 0, 1200), Vec3(0, 90, 0));
+  expect_matrix_near((turn * rail).matrix(), turn.matrix() * rail.matrix(), 1e-12);
+}
+
 TEST(Frame, CompositionAndInverse) {
   const Frame a(Vec3(1, 2, 3), Vec3(10, 20, 30));
   const Frame b(Vec3(-4, 0.5, 7), Vec3(-35, 80, 15));
