@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <set>
 
@@ -96,14 +97,54 @@ double on_grid(double v, double grid) {
   return std::round(v / grid) * grid;
 }
 
+// A rod environment spun about its axis is the same world; only the angle ψ of the contacts on
+// it (measured from the rod's frame) reads differently. The spin δ (radians) about its axis
+// that turns a one-rod environment's frame so that its y axis — where ψ = 0 puts a contact —
+// points as far up as it can; 0 for other environments, upright rods and rods written that way
+// already (the examples' rods; round-off of a quarter turn is not a spin). For the rod's
+// connector, T(z)·Rz(ψ)·T(0, r, 0)·…, the frame spun by Rz(δ) reads ψ − δ.
+double rod_spin_to_up(const PartNode& n) {
+  if (!n.environment || n.part->primitives.size() != 1) return 0;
+  const Primitive& rod = n.part->primitives.front();
+  if (rod.connector_kind() != ConnectorKind::kRod) return 0;
+  const Mat3 world = n.placement.R * rod.frame.matrix().topLeftCorner<3, 3>();
+  const Vec3 axis = world.col(2);
+  if (std::abs(axis.z()) > 0.9) return 0;  // upright: no up to point along
+  const Vec3 up = (Vec3::UnitZ() - axis.z() * axis).normalized();
+  const double spin = std::atan2(-up.dot(world.col(0)), up.dot(world.col(1)));
+  return std::abs(spin) < 1e-12 ? 0.0 : spin;
+}
+
 }  // namespace
 
-Assembly Assembly::in_own_placement(Vec3* centre_out) const {
+Assembly Assembly::in_own_placement(Vec3* centre_out, std::vector<double>* shift_out) const {
+  Assembly out = *this;
+  std::vector<double> shift(params_.size(), 0.0);
+  // Each one-rod environment is spun about its axis to where ψ = 0 is its top (rod_spin_to_up),
+  // and ψ of every contact on it is read from there: the same numbers however the file spun
+  // the rod.
+  for (std::size_t i = 0; i < out.parts_.size(); ++i) {
+    PartNode& n = out.parts_[i];
+    const double spin = rod_spin_to_up(n);
+    if (spin == 0) continue;
+    const Mat4 primitive = n.part->primitives.front().frame.matrix();
+    Mat4 turn = Mat4::Identity();
+    turn.topLeftCorner<3, 3>() = Eigen::AngleAxisd(spin, Vec3::UnitZ()).toRotationMatrix();
+    n.frame =
+        Frame::from_matrix(n.frame.matrix() * primitive * turn * rigid_inverse<double>(primitive));
+    n.placement = Rigid<double>::from_matrix(n.frame.matrix());
+    for (std::size_t k = 0; k < params_.size(); ++k) {
+      const ParamInfo& info = params_[k];
+      if (info.part.index() == i && info.spec.name == "psi") {
+        shift[k] = -spin * 180.0 / std::numbers::pi;
+      }
+    }
+  }
   Vec3 centre = Vec3::Zero();
   int environments = 0;
   std::optional<std::pair<std::string, Mat3>> first;  // the environment first by name
-  for (std::size_t i = 0; i < parts_.size(); ++i) {
-    const PartNode& n = parts_[i];
+  for (std::size_t i = 0; i < out.parts_.size(); ++i) {
+    const PartNode& n = out.parts_[i];
     if (!n.environment) continue;
     centre += n.frame.pos;
     ++environments;
@@ -117,8 +158,7 @@ Assembly Assembly::in_own_placement(Vec3* centre_out) const {
     centre /= environments;
     // Its heading: the first of its z, x and y axes with a horizontal reach of at least a half
     // (a turn about the vertical keeps every axis's reach; of a rotation's three columns one
-    // reaches at least √(2/3)). z first: a rod's or a tube's axis, which spinning the rod about
-    // it (nothing physical either) leaves where it is.
+    // reaches at least √(2/3)). z first: a rod's or a tube's axis.
     for (const int axis : {2, 0, 1}) {
       const Vec3 a = first->second.col(axis);
       if (a.head<2>().norm() < 0.5) continue;
@@ -134,12 +174,11 @@ Assembly Assembly::in_own_placement(Vec3* centre_out) const {
     Eigen::Quaterniond q(Mat3(turn * m.topLeftCorner<3, 3>()));
     q.coeffs() = q.coeffs().unaryExpr([](double c) { return on_grid(c, kPlacementGridTurn); });
     q.normalize();  // the rotation's entries are products of two components: q and −q agree
-    Mat4 out = Mat4::Identity();
-    out.topLeftCorner<3, 3>() = q.toRotationMatrix();
-    out.topRightCorner<3, 1>() = pos;
-    return Frame::from_matrix(out);
+    Mat4 placed_frame = Mat4::Identity();
+    placed_frame.topLeftCorner<3, 3>() = q.toRotationMatrix();
+    placed_frame.topRightCorner<3, 1>() = pos;
+    return Frame::from_matrix(placed_frame);
   };
-  Assembly out = *this;
   for (PartNode& n : out.parts_) {
     if (!n.environment) continue;
     n.frame = placed(n.frame);
@@ -147,6 +186,8 @@ Assembly Assembly::in_own_placement(Vec3* centre_out) const {
   }
   if (out.target_) out.target_->frame = placed(out.target_->frame);
   for (AddCall& a : out.adds_) a.frame = placed(a.frame);
+  for (std::size_t k = 0; k < shift.size(); ++k) out.values_[k] += shift[k];
+  if (shift_out) *shift_out = std::move(shift);
   return out;
 }
 
@@ -655,8 +696,10 @@ bool Assembly::verify_closure(ConnectionId id,
   const int group = std::max(groups[conn.first.part.index()], groups[conn.second.part.index()]);
   // Closed in the design's own placement, as it is solved: where the world stands must not
   // decide which way its cycles close.
-  const detail::ClosureResult r =
-      detail::close_cycles(in_own_placement(), values_, options.verify, group);
+  std::vector<double> shift;
+  const Assembly placed = in_own_placement(nullptr, &shift);
+  detail::ClosureResult r = detail::close_cycles(placed, placed.values_, options.verify, group);
+  for (std::size_t k = 0; k < shift.size() && k < r.x.size(); ++k) r.x[k] -= shift[k];
   report.starts_used = r.starts;
   report.residual = r.cost;
   report.best_parameters = r.x;

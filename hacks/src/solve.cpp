@@ -216,7 +216,19 @@ namespace {
 // the world says nothing physical, but the solver's round-off followed it.
 SolveResult solve_placed(const Assembly& assembly, const SolveOptions& options) {
   Vec3 centre = Vec3::Zero();
-  SolveResult result = solve_where_it_stands(assembly.in_own_placement(&centre), options);
+  std::vector<double> shift;
+  SolveResult result = solve_where_it_stands(assembly.in_own_placement(&centre, &shift), options);
+  // The parameters read as the design's own (ψ on a rod spun back: less its shift).
+  auto read_back = [&](std::vector<double>& x) {
+    if (x.size() != shift.size()) return;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      if (shift[k] == 0) continue;
+      x[k] -= shift[k];
+      if (assembly.parameters()[k].spec.tag == ParamTag::kUnbounded) x[k] = wrap_360(x[k]);
+    }
+  };
+  read_back(result.parameters);
+  read_back(result.step1_parameters);
   // Back where the design stands: the parameters are relative to the parts, so the design's
   // own frames at them are the answer (the environments where the design put them, not where
   // the grid did).

@@ -235,8 +235,11 @@ class Assembly {
   /// to the parts, mean the same there). A design moved and turned as a whole about the
   /// vertical has the same own placement, number for number, so the solver's round-off, and
   /// with it which of several rest states a solve reaches, no longer follows where the world
-  /// is. `centre` (optional) receives the world point placed at the origin.
-  Assembly in_own_placement(Vec3* centre = nullptr) const;
+  /// is. A one-rod environment spun about its rod's axis is spun back to where its frame's x
+  /// axis points down (the angles ψ of the contacts on it read from there). `centre` (optional)
+  /// receives the world point placed at the origin, `shift` what was added to each parameter
+  /// (ψ of those contacts; 0 elsewhere): the parameters there are the caller's plus `shift`.
+  Assembly in_own_placement(Vec3* centre = nullptr, std::vector<double>* shift = nullptr) const;
   /// Connections involving a primitive.
   std::vector<ConnectionId> connections_of(PartId id, PrimitiveId primitive) const;
 
