@@ -92,6 +92,7 @@ namespace {
 // velocities (the paper towel holder ended "did not converge" there).
 constexpr double kPlacementGridMm = 1.0 / (1 << 20);    // about 10⁻⁶ mm
 constexpr double kPlacementGridTurn = 1.0 / (1 << 30);  // quaternion components, ≈10⁻⁹ rad
+constexpr double kPlacementGridDeg = 1.0 / (1 << 30);   // parameters (degrees, fractions)
 
 double on_grid(double v, double grid) {
   return std::round(v / grid) * grid;
@@ -186,7 +187,18 @@ Assembly Assembly::in_own_placement(Vec3* centre_out, std::vector<double>* shift
   }
   if (out.target_) out.target_->frame = placed(out.target_->frame);
   for (AddCall& a : out.adds_) a.frame = placed(a.frame);
-  for (std::size_t k = 0; k < shift.size(); ++k) out.values_[k] += shift[k];
+  // The parameters on a grid too (and angles without ends in [0, 360)): where a connect starts
+  // a part is computed in the file's frames (a contact at a rod's top: ψ of a spun rod reads,
+  // say, 308.7, and placed 308.7 + 51.3, 360 to round-off; a hanger's rod on a spun bar started
+  // its contact at 10⁻¹⁴° instead of 0), and the fits amplified such round-off into another
+  // member of a family of rests (the demo's hanger, 0.09 mm).
+  for (std::size_t k = 0; k < out.values_.size(); ++k) {
+    const ParamSpec& spec = params_[k].spec;
+    if (spec.constant) continue;
+    double v = on_grid(values_[k] + shift[k], kPlacementGridDeg);
+    v = spec.tag == ParamTag::kUnbounded ? wrap_360(v) : std::clamp(v, spec.lo, spec.hi);
+    out.values_[k] = v;
+  }
   if (shift_out) *shift_out = std::move(shift);
   return out;
 }
