@@ -1323,6 +1323,21 @@ TEST(Physics, AMirroredDesignRestsAsTheMirrorImage) {
   }
 }
 
+// A shower curtain rod through two S-hooks hung from the rods `first` and `second` of
+// `environments` (YAML list items).
+std::string bar_on_two_hooks(const std::string& environments,
+                             const std::string& first,
+                             const std::string& second) {
+  return "fabkit: hacks/1\nname: bar on two hooks\nenvironment:\n" + environments +
+         "parts:\n  - {name: s1, part: DoubleHook}\n  - {name: s2, part: DoubleHook}\n"
+         "  - {name: bar, part: ShowerCurtainRod}\nconnections:\n"
+         "  - connect: [s1.hook1, " +
+         first +
+         ".rod]\n  - connect: [bar.rod, s1.hook2]\n"
+         "  - connect: [s2.hook1, " +
+         second + ".rod]\n  - connect: [s2.hook2, bar.rod]\n";
+}
+
 // A curtain rod resting in two S-hooks hung 300 mm apart (each from its own short rod) rests
 // level, stable: the rod may slide through the hooks at no cost (a neutral direction, which
 // gets no step) as long as its centre of mass stays between them, and gravity has nothing to
@@ -1331,17 +1346,13 @@ TEST(Physics, AMirroredDesignRestsAsTheMirrorImage) {
 // hooks. (Issue 9 found a bar on two hooks sliding 172 mm and declared falling apart: that
 // is the rail below, where the hooks hang side by side.)
 TEST(Physics, ABarInTwoHooksApartRestsLevel) {
-  const std::string yaml =
-      "fabkit: hacks/1\nname: bar on two hooks apart\nenvironment:\n"
-      "  - {name: left, primitives: {rod: {type: rod, radius: 6, length: 30}}, "
-      "frame: {pos: [-150, 0, 1200], rot: [0, 90, 0]}}\n"
-      "  - {name: right, primitives: {rod: {type: rod, radius: 6, length: 30}}, "
-      "frame: {pos: [150, 0, 1200], rot: [0, 90, 0]}}\nparts:\n"
-      "  - {name: s1, part: DoubleHook}\n  - {name: s2, part: DoubleHook}\n"
-      "  - {name: bar, part: ShowerCurtainRod}\nconnections:\n"
-      "  - connect: [s1.hook1, left.rod]\n  - connect: [bar.rod, s1.hook2]\n"
-      "  - connect: [s2.hook1, right.rod]\n  - connect: [s2.hook2, bar.rod]\n";
-  const Design d = load_text(yaml);
+  const Design d = load_text(
+      bar_on_two_hooks("  - {name: left, primitives: {rod: {type: rod, radius: 6, length: 30}}, "
+                       "frame: {pos: [-150, 0, 1200], rot: [0, 90, 0]}}\n"
+                       "  - {name: right, primitives: {rod: {type: rod, radius: 6, length: 30}}, "
+                       "frame: {pos: [150, 0, 1200], rot: [0, 90, 0]}}\n",
+                       "left",
+                       "right"));
   ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
   const SolveResult r = solve(d.assembly);
   EXPECT_TRUE(r.stable) << r.summary();
@@ -1372,15 +1383,11 @@ TEST(Physics, ABarInTwoHooksApartRestsLevel) {
 // (ABarInTwoHooksApartRestsLevel). So this is never reported stable, and whatever is said to
 // slip is the rod sliding through a hook.
 TEST(Physics, ABarThroughTwoHooksSlidesOutOfThem) {
-  const std::string yaml =
-      "fabkit: hacks/1\nname: bar on two hooks\nenvironment:\n"
-      "  - {name: rail, primitives: {rod: {type: rod, radius: 6, length: 900}}, "
-      "frame: {pos: [0, 0, 1200], rot: [0, 90, 0]}}\nparts:\n"
-      "  - {name: s1, part: DoubleHook}\n  - {name: s2, part: DoubleHook}\n"
-      "  - {name: bar, part: ShowerCurtainRod}\nconnections:\n"
-      "  - connect: [s1.hook1, rail.rod]\n  - connect: [bar.rod, s1.hook2]\n"
-      "  - connect: [s2.hook1, rail.rod]\n  - connect: [s2.hook2, bar.rod]\n";
-  const Design d = load_text(yaml);
+  const Design d = load_text(
+      bar_on_two_hooks("  - {name: rail, primitives: {rod: {type: rod, radius: 6, length: 900}}, "
+                       "frame: {pos: [0, 0, 1200], rot: [0, 90, 0]}}\n",
+                       "rail",
+                       "rail"));
   ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
   const SolveResult r = solve(d.assembly);
   EXPECT_FALSE(r.stable) << r.summary();
