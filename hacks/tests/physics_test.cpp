@@ -123,8 +123,7 @@ TEST(Physics, AnswersDoNotDependOnWhereTheWorldIs) {
     const double x = across(rng), y = across(rng), z = up(rng), c = turn(rng);
     worlds.emplace_back(Vec3(x, y, z), Vec3(0, 0, c));
   }
-  std::vector<std::string> names = gallery();
-  for (const std::string& name : names) {
+  for (const std::string& name : gallery()) {
     SCOPED_TRACE(name);
     const std::string yaml = read_example(name);
     const Outcome a = solve_text(yaml);
@@ -459,8 +458,7 @@ TEST(Physics, BuildingACycleFromItsOtherEndRestsTheSame) {
 // 18 mm from its target, turned half a turn, in five of its eight orders.)
 TEST(Physics, AnyOrderOfConnectsGivesTheSameAnswer) {
   std::mt19937_64 rng(11);
-  std::vector<std::string> names = gallery();
-  for (const std::string& name : names) {
+  for (const std::string& name : gallery()) {
     SCOPED_TRACE(name);
     const std::string yaml = read_example(name);
     const YAML::Node root = YAML::Load(yaml);
@@ -1027,6 +1025,18 @@ TEST(Physics, ALongSlackSpanSagsWhateverTheSeed) {
   for (double low : lowest) EXPECT_NEAR(low, lowest.front(), 1.0);
 }
 
+// A gallery design verified and solved with `seed` for every random start.
+SolveResult solved_with_seed(const std::string& name, std::uint64_t seed) {
+  DesignOptions design_options;
+  design_options.verify.seed = seed;
+  const Design d =
+      load_design_text(read_example(name), name + ".yaml", PartsLibrary::builtin(), design_options);
+  EXPECT_TRUE(d.feasible()) << d.diagnostics.format();
+  SolveOptions options;
+  options.seed = seed;
+  return solve(d.assembly, options);
+}
+
 // The reading nook rests with nothing passing through for other seeds than the default too.
 // Its two chains used to end 15-45 mm inside each other with other seeds ("parts pass through
 // each other"): a relaxation with contact rows that swung its links farther than the pairs it
@@ -1037,19 +1047,9 @@ TEST(Physics, ALongSlackSpanSagsWhateverTheSeed) {
 // their own placement seeds 2, 3 and 5 end "did not converge", 4, 6 and 8 pass through:
 // docs/gallery.md.)
 TEST(Physics, TheReadingNookRestsApartWithOtherSeeds) {
-  for (std::uint64_t seed : {7}) {
-    SCOPED_TRACE(seed);
-    DesignOptions design_options;
-    design_options.verify.seed = seed;
-    const Design d = load_design_text(
-        read_example("reading_nook"), "reading_nook.yaml", PartsLibrary::builtin(), design_options);
-    ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
-    SolveOptions options;
-    options.seed = seed;
-    const SolveResult r = solve(d.assembly, options);
-    EXPECT_TRUE(r.stable) << r.summary();
-    EXPECT_LE(r.max_penetration_mm, 0.5) << r.summary();
-  }
+  const SolveResult r = solved_with_seed("reading_nook", 7);
+  EXPECT_TRUE(r.stable) << r.summary();
+  EXPECT_LE(r.max_penetration_mm, 0.5) << r.summary();
 }
 
 // A design whose verified configuration closes its cycles the wrong way round and whose step 1
@@ -1059,20 +1059,8 @@ TEST(Physics, TheReadingNookRestsApartWithOtherSeeds) {
 // each) and it ended "parts pass through each other", 414 mm deep; with four starts each, two
 // close, one reaches the target and it rests as with seed 1, the roll against the panel's edge.
 TEST(Physics, ThePaperTowelHolderRestsTheSameWithAnotherSeed) {
-  auto solved = [](std::uint64_t seed) {
-    DesignOptions design_options;
-    design_options.verify.seed = seed;
-    const Design d = load_design_text(read_example("paper_towel_holder"),
-                                      "paper_towel_holder.yaml",
-                                      PartsLibrary::builtin(),
-                                      design_options);
-    EXPECT_TRUE(d.feasible()) << d.diagnostics.format();
-    SolveOptions options;
-    options.seed = seed;
-    return solve(d.assembly, options);
-  };
-  const SolveResult first = solved(1);
-  const SolveResult fifth = solved(5);
+  const SolveResult first = solved_with_seed("paper_towel_holder", 1);
+  const SolveResult fifth = solved_with_seed("paper_towel_holder", 5);
   ASSERT_TRUE(first.stable) << first.summary();
   EXPECT_TRUE(fifth.stable) << fifth.summary();
   EXPECT_LE(fifth.max_penetration_mm, 0.5) << fifth.summary();

@@ -235,10 +235,11 @@ class Assembly {
   /// to the parts, mean the same there). A design moved and turned as a whole about the
   /// vertical has the same own placement, number for number, so the solver's round-off, and
   /// with it which of several rest states a solve reaches, no longer follows where the world
-  /// is. A one-rod environment spun about its rod's axis is spun back to where its frame's x
-  /// axis points down (the angles ψ of the contacts on it read from there). `centre` (optional)
-  /// receives the world point placed at the origin, `shift` what was added to each parameter
-  /// (ψ of those contacts; 0 elsewhere): the parameters there are the caller's plus `shift`.
+  /// is. A one-rod environment spun about its rod's axis is spun back to where its frame's y
+  /// axis (ψ = 0) points up, the angles ψ of the contacts on it read from there; every
+  /// parameter's value is on a grid too. `centre` (optional) receives the world point placed at
+  /// the origin, `shift` what was added to each parameter (ψ of those contacts; 0 elsewhere):
+  /// the parameters there are the caller's plus `shift`, to the grid.
   Assembly in_own_placement(Vec3* centre = nullptr, std::vector<double>* shift = nullptr) const;
   /// Connections involving a primitive.
   std::vector<ConnectionId> connections_of(PartId id, PrimitiveId primitive) const;
