@@ -678,10 +678,13 @@ bool Assembly::verify_closure(ConnectionId id,
       primitive_state_[conn.first.part.index()][conn.first.primitive.index()].connections > 1 ||
       primitive_state_[conn.second.part.index()][conn.second.primitive.index()].connections > 1;
   const bool has_cycles = !cycle_connections().empty();
+  // What the distance bounds say about the new cycle (none asked: not measured).
+  std::optional<detail::PolygonVerdict> bounds;
   if (conn.closes_cycle) {
     report.cycles.push_back(describe_cycle(id));
     if (options.verify.quick_reject) {
-      const detail::PolygonVerdict v = detail::check_cycle_polygon(*this, id);
+      bounds = detail::check_cycle_polygon(*this, id);
+      const detail::PolygonVerdict& v = *bounds;
       if (!v.feasible) {
         const detail::CycleSegment& s = v.segments[static_cast<std::size_t>(v.failing)];
         diags.error(codes::kCycleTooLong,
@@ -746,16 +749,32 @@ bool Assembly::verify_closure(ConnectionId id,
           fmt::format("{}{} overlap by {:.1f} mm", overlap.empty() ? "" : "; ", m.description, -f);
     }
   }
-  const std::string best =
-      fmt::format("the best of {} start{} leaves {}",
-                  r.starts,
-                  r.starts == 1 ? "" : "s",
-                  gap.empty() ? overlap : (overlap.empty() ? gap : gap + "; " + overlap));
+  const std::string left = gap.empty() ? overlap : (overlap.empty() ? gap : gap + "; " + overlap);
   if (conn.closes_cycle) {
+    // Not found is not impossible (that is kCycleTooLong, a proof): the message says which,
+    // and how near the distance bounds come to ruling a closure out, so that a chain a link
+    // short reads as one.
+    std::string unproved = "not proved impossible";
+    if (bounds && bounds->tightest >= 0) {
+      const detail::CycleSegment& s = bounds->segments[static_cast<std::size_t>(bounds->tightest)];
+      unproved +=
+          fmt::format(": the other parts can span up to {:.0f} mm, and at least {:.0f} mm lie {}",
+                      bounds->tightest_others_span,
+                      s.range.lo,
+                      s.description);
+    }
     diags.error(codes::kCycleNotClosable,
-                fmt::format("cannot close cycle {}: {}", report.cycles.back(), best),
+                fmt::format("cannot close cycle {}: no closure found within the budget of {} "
+                            "start{} (the best leaves {}); {}",
+                            report.cycles.back(),
+                            r.starts,
+                            r.starts == 1 ? "" : "s",
+                            left,
+                            unproved),
                 options.where);
   } else {
+    const std::string best =
+        fmt::format("the best of {} start{} leaves {}", r.starts, r.starts == 1 ? "" : "s", left);
     diags.error(
         codes::kMultiConnection,
         fmt::format("{} leaves no room on a shared primitive: {}", report.description, best),

@@ -367,6 +367,13 @@ PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closin
   }
   for (std::size_t k = 0; k < verdict.segments.size(); ++k) {
     const double others = total_hi - verdict.segments[k].range.hi;
+    const double excess = verdict.segments[k].range.lo - others;
+    if (verdict.tightest < 0 ||
+        excess > verdict.segments[static_cast<std::size_t>(verdict.tightest)].range.lo -
+                     verdict.tightest_others_span) {
+      verdict.tightest = static_cast<int>(k);
+      verdict.tightest_others_span = others;
+    }
     // Reject only beyond what sampling could have missed.
     if (verdict.segments[k].range.lo - total_margin > others) {
       verdict.feasible = false;

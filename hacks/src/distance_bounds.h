@@ -36,6 +36,11 @@ struct PolygonVerdict {
   bool feasible = true;
   int failing = -1;        ///< segment whose minimum exceeds what the others span
   double others_span = 0;  ///< Σ hi of the other segments
+  /// Where the loop closes: the segment whose minimum comes nearest to what the others span
+  /// (the failing one when there is one), and that span. A search that finds no closure says
+  /// how near the bounds are to ruling one out.
+  int tightest = -1;
+  double tightest_others_span = 0;
   std::vector<CycleSegment> segments;
 };
 

@@ -573,7 +573,7 @@ std::string taut_chain(bool from_left) {
 // A cycle that closes closes whichever end it is built from and whatever the seed. Pulled out
 // nearly taut, the chain passes configurations where a millionth of a parameter's range
 // decides which way it straightens; the closure search's last-resort stretching start, tried
-// one way only, left it open ("the best of 16 starts leaves a gap of 4.6 mm") for 3 of 9 seeds
+// one way only, left it open (the best of 16 starts left a gap of 4.6 mm) for 3 of 9 seeds
 // from either end, a different 3 for each end. Tried four ways it closes for all but seed 3
 // from the left rod and seed 9 from the right. Every design file is now verified in the
 // canonical order of its connects (from both rods at once, closing in the chain's middle),

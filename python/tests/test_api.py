@@ -70,7 +70,7 @@ def taut_chain(from_left, seed):
 
 def test_a_cycle_closes_whichever_end_the_program_builds_first():
     # Built from the right rod with seed 9, the closure search misses the last connect in the
-    # program's order ("the best of 16 starts leaves a gap"); the connects so far, made again in
+    # program's order ("no closure found within the budget"); the connects so far, made again in
     # their canonical order, close it, as a design file's do. Both ends rest alike.
     from_right, closes = taut_chain(from_left=False, seed=9)
     assert closes
