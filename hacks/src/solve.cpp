@@ -32,6 +32,8 @@ constexpr int kOtherClosingsAtOnce = 2;
 // answer the same on every machine.
 constexpr int kOtherClosingsUpTo = 64;
 constexpr int kOtherClosingStream = 2000;
+// Steps in which twins on one primitive are spread along it (solve(), relax_free_group).
+constexpr int kSpreadSteps = 10;
 // Starts of the closure search for each of step 1's random starts when a design is solved
 // again because nothing held (solve()).
 constexpr int kHarderStartClosings = 4;
@@ -511,6 +513,59 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       seen.push_back(frames);
       return start;
     };
+    // Twins hung on one primitive — identical parts hung the same way from one rod, rail or
+    // edge, such as two S-hooks carrying a bar — are spread evenly along it first, the rest as
+    // verified, and the cycles closed with those places held. That is how such things are hung,
+    // and a rest the random closings rarely reach: closing a cycle from a random draw brings
+    // the twins back together, and a bar in two hooks side by side is a seesaw.
+    auto spread = [&]() -> std::optional<std::vector<double>> {
+      std::vector<double> start = step1.x;
+      std::vector<double> goal = step1.x;
+      std::vector<char> placed(start.size(), 0);
+      for (const std::vector<int>& twins : twin_groups(problem, vars.index, start)) {
+        const ParamSpec& s = assembly.parameters()[static_cast<std::size_t>(twins.front())].spec;
+        if (!s.critical_dim || s.tag == ParamTag::kUnbounded) continue;
+        const auto n = static_cast<double>(twins.size());
+        for (std::size_t r = 0; r < twins.size(); ++r) {
+          const auto i = static_cast<std::size_t>(twins[r]);
+          goal[i] = s.lo + (s.hi - s.lo) * (static_cast<double>(r) + 1) / (n + 1);
+          placed[i] = 1;
+        }
+      }
+      Variables rest;
+      for (std::size_t k = 0; k < vars.index.size(); ++k) {
+        if (placed[static_cast<std::size_t>(vars.index[k])]) continue;
+        rest.index.push_back(vars.index[k]);
+        rest.scale.push_back(vars.scale[k]);
+      }
+      if (rest.index.size() == vars.index.size()) return std::nullopt;
+      // Moved there in steps, the cycles closed again after each (one long move leaves a gap
+      // the closing does not bridge: the bar's hooks 300 mm apart at once).
+      for (int step = 1; step <= kSpreadSteps; ++step) {
+        for (std::size_t i = 0; i < start.size(); ++i) {
+          if (placed[i]) start[i] = step1.x[i] + (goal[i] - step1.x[i]) * step / kSpreadSteps;
+        }
+        if (!close_again(problem, rest, start, opts)) return std::nullopt;
+      }
+      // The rest hangs there first, those places still held: a hook spread along a rail leans
+      // towards where the closing left what it carries, and let go from there at once it slid
+      // back along the rail with it (the bar's hooks ended side by side again).
+      {
+        AssemblySolver hang(problem, rest, start, Objective::kEnergy, opts.deadline);
+        const StepResult hung = hang.relax(start, opts.max_iterations);
+        if (hung.closed) start = hung.x;
+      }
+      const std::vector<Mat4> frames = assembly.part_frames(start);
+      for (const std::vector<Mat4>& f : seen) {
+        if (same_poses(f, frames)) return std::nullopt;
+      }
+      seen.push_back(frames);
+      return start;
+    };
+    if (std::optional<std::vector<double>> start = spread(); start && !stop->passed()) {
+      GroupOutcome spread_out = relax_and_judge(group_problem(g), std::move(*start), opts);
+      if (holds(spread_out)) return spread_out;
+    }
     // What holds wins, the lowest potential among what holds (the earlier closing on a tie);
     // the verified configuration's outcome stands, with what it says went wrong, when nothing
     // holds. The closings are relaxed kOtherClosingsAtOnce at a time (whatever the thread count, so

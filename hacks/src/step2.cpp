@@ -1,6 +1,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <map>
 
 #include "cycle_closure.h"
 #include "random.h"
@@ -151,6 +153,53 @@ bool close_again(const Problem& p,
   return true;
 }
 
+std::vector<std::vector<int>> twin_groups(const Problem& p,
+                                          const std::vector<int>& vars,
+                                          const std::vector<double>& x) {
+  const Assembly& a = *p.assembly;
+  std::map<std::string, std::vector<int>> by_key;
+  for (int v : vars) by_key[(*p.parameter_keys)[static_cast<std::size_t>(v)]].push_back(v);
+  // Where each twin is: its value, then where its connection is in the world. A name or a
+  // connect's place in the file could tell them apart too, but then renaming the parts or
+  // building in another order would hand the draws round differently.
+  auto where = [&](int v) {
+    const ParamInfo& info = a.parameters()[static_cast<std::size_t>(v)];
+    const Vec3 at = a.connection_frames<double>(info.connection, x.data()).first.t;
+    return std::array<double, 4>{x[static_cast<std::size_t>(v)], at.x(), at.y(), at.z()};
+  };
+  std::vector<std::vector<int>> out;
+  for (const auto& [key, group] : by_key) {
+    if (group.size() < 2) continue;
+    std::vector<std::pair<std::array<double, 4>, int>> ranked;
+    for (int v : group) ranked.emplace_back(where(v), v);
+    std::stable_sort(ranked.begin(), ranked.end(), [](const auto& l, const auto& r) {
+      return l.first < r.first;
+    });
+    std::vector<int>& ordered = out.emplace_back();
+    for (const auto& [at, v] : ranked) ordered.push_back(v);
+  }
+  return out;
+}
+
+std::vector<std::string> draw_keys(const Problem& p,
+                                   const std::vector<int>& vars,
+                                   const std::vector<double>& x) {
+  std::vector<std::string> out;
+  out.reserve(vars.size());
+  std::map<int, std::size_t> slot;  // parameter → its place in vars
+  for (std::size_t k = 0; k < vars.size(); ++k) {
+    out.push_back((*p.parameter_keys)[static_cast<std::size_t>(vars[k])]);
+    slot[vars[k]] = k;
+  }
+  for (const std::vector<int>& twins : twin_groups(p, vars, x)) {
+    for (std::size_t r = 1; r < twins.size(); ++r) {
+      std::string& key = out[slot[twins[r]]];
+      key = fmt::format("{}#twin{}", key, r);
+    }
+  }
+  return out;
+}
+
 void draw_keyed(const Problem& p,
                 const std::vector<int>& vars,
                 std::uint64_t seed,
@@ -158,16 +207,13 @@ void draw_keyed(const Problem& p,
                 bool unbounded_only,
                 std::vector<double>& x) {
   const Assembly& a = *p.assembly;
-  const std::vector<std::string>& keys = *p.parameter_keys;
-  for (int v : vars) {
-    const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
+  const std::vector<std::string> keys = draw_keys(p, vars, x);
+  for (std::size_t k = 0; k < vars.size(); ++k) {
+    const ParamSpec& s = a.parameters()[static_cast<std::size_t>(vars[k])].spec;
     if (unbounded_only && s.tag != ParamTag::kUnbounded) continue;
-    double& value = x[static_cast<std::size_t>(v)];
-    value = drawn_value(value,
-                        keyed_uniform(seed, stream, keys[static_cast<std::size_t>(v)]),
-                        s.lo,
-                        s.hi,
-                        s.tag == ParamTag::kUnbounded);
+    double& value = x[static_cast<std::size_t>(vars[k])];
+    value = drawn_value(
+        value, keyed_uniform(seed, stream, keys[k]), s.lo, s.hi, s.tag == ParamTag::kUnbounded);
   }
 }
 

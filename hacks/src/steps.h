@@ -286,11 +286,26 @@ bool close_again(const Problem& p,
                  std::vector<double>& x,
                  const SolveOptions& o);
 
-/// Seeded values keyed by the parameters' names (the same for a parameter whatever its place
-/// in the vector or the order of the connects) for the parameters `vars` of x, uniform within
+/// Twins among `vars`: parameters with equal keys (Assembly::parameter_keys), because their
+/// parts hang the same way from the same thing — two S-hooks' places on one rail. Each group
+/// ordered by the twins' values at x, then by where their connections are in the world: the
+/// same order whatever the parts are called or the order they were connected in.
+std::vector<std::vector<int>> twin_groups(const Problem& p,
+                                          const std::vector<int>& vars,
+                                          const std::vector<double>& x);
+/// The keys draw_keyed draws `vars` by: Assembly::parameter_keys(), but a twin after the first
+/// of its group gets "#twin<rank>" added.
+std::vector<std::string> draw_keys(const Problem& p,
+                                   const std::vector<int>& vars,
+                                   const std::vector<double>& x);
+
+/// Seeded values keyed by the parameters' structural keys (the same for a parameter whatever its
+/// place in the vector or the order of the connects) for the parameters `vars` of x, uniform within
 /// their bounds: all of them, or with `unbounded_only` only the unbounded angles. An unbounded
 /// angle is turned from its value in x by a uniform draw (its zero depends on how the file
 /// placed the primitive, a rod spun about its axis), a bounded parameter drawn afresh.
+/// Twins get draws of their own, handed out in twin_groups' order: equal draws would put both
+/// hooks on a rail in one place on every draw.
 void draw_keyed(const Problem& p,
                 const std::vector<int>& vars,
                 std::uint64_t seed,

@@ -373,5 +373,61 @@ TEST(Properties, GaugePairsMoveNothing) {
   }
 }
 
+// Two S-hooks hung the same way from one rail are twins: their parameters' structural keys are
+// equal (the keys know where a part hangs from what, not its name), so keyed draws gave both
+// the same place on the rail on every draw. Now the second twin, by where they are, draws by a
+// key of its own; the first keeps the key, so designs without twins draw as before.
+TEST(Properties, TwinsOnOneRailDrawApart) {
+  const Design d = testing::load_text(R"(fabkit: hacks/1
+environment:
+  - {name: rail, primitives: {rod: {type: rod, radius: 6, length: 900}}, frame: {pos: [0, 0, 1200], rot: [0, 90, 0]}}
+parts:
+  - {name: s1, part: DoubleHook}
+  - {name: s2, part: DoubleHook}
+connections:
+  - connect: [s1.hook1, rail.rod]
+  - connect: [s2.hook1, rail.rod]
+)");
+  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+  const Assembly& a = d.assembly;
+  const detail::Problem p = detail::make_problem(a);
+  const detail::Variables vars = detail::select_variables(a, /*physics=*/true, &p);
+  std::vector<int> rail_t;  // where each hook hangs along the rail
+  for (int v : vars.index) {
+    const ParamInfo& info = a.parameters()[static_cast<std::size_t>(v)];
+    if (a.node(info.part).environment && info.spec.name == "t") rail_t.push_back(v);
+  }
+  ASSERT_EQ(rail_t.size(), 2u);
+  const std::vector<std::string> keys = a.parameter_keys();
+  ASSERT_EQ(keys[static_cast<std::size_t>(rail_t[0])], keys[static_cast<std::size_t>(rail_t[1])]);
+  // Ordered by where they are: the hook nearer the rail's start (the smaller t) keeps the key,
+  // whichever connect made it.
+  for (const bool swap : {false, true}) {
+    std::vector<double> x = a.values();
+    x[static_cast<std::size_t>(rail_t[0])] = swap ? 0.7 : 0.2;
+    x[static_cast<std::size_t>(rail_t[1])] = swap ? 0.2 : 0.7;
+    const int nearer = swap ? rail_t[1] : rail_t[0];
+    const std::vector<std::string> drawn = detail::draw_keys(p, vars.index, x);
+    for (std::size_t k = 0; k < vars.index.size(); ++k) {
+      const std::string& plain = keys[static_cast<std::size_t>(vars.index[k])];
+      if (vars.index[k] == nearer) {
+        EXPECT_EQ(drawn[k], plain) << swap;
+      } else if (vars.index[k] == rail_t[0] || vars.index[k] == rail_t[1]) {
+        EXPECT_EQ(drawn[k], plain + "#twin1") << swap;
+      }
+    }
+  }
+  const std::vector<double> x = a.values();
+  int apart = 0;
+  for (int stream = 0; stream < 20; ++stream) {
+    std::vector<double> y = x;
+    detail::draw_keyed(p, vars.index, 1, stream, /*unbounded_only=*/false, y);
+    const double spread =
+        std::abs(y[static_cast<std::size_t>(rail_t[0])] - y[static_cast<std::size_t>(rail_t[1])]);
+    apart += spread > 0.05 ? 1 : 0;  // 45 mm along the 900 mm rail
+  }
+  EXPECT_GE(apart, 15);  // uniform draws: 90 % of pairs are more than a twentieth apart
+}
+
 }  // namespace
 }  // namespace fabkit::hacks
