@@ -5,9 +5,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -709,6 +711,48 @@ double closure_search_jacobian_mismatch(const Assembly& assembly,
     worst = std::max(worst, std::abs(j_exact[i] - j_auto[i]));
   }
   return worst / largest;
+}
+
+std::vector<std::vector<int>> twin_groups(const Assembly& a,
+                                          const std::vector<std::string>& keys,
+                                          const std::vector<int>& vars,
+                                          const std::vector<double>& x) {
+  std::map<std::string, std::vector<int>> by_key;
+  for (int v : vars) by_key[keys[static_cast<std::size_t>(v)]].push_back(v);
+  // Where each twin is: its value, then where its connection is in the world. A name or a
+  // connect's place in the file could tell them apart too, but then renaming the parts or
+  // building in another order would hand the draws round differently.
+  auto where = [&](int v) {
+    const ParamInfo& info = a.parameters()[static_cast<std::size_t>(v)];
+    const Vec3 at = a.connection_frames<double>(info.connection, x.data()).first.t;
+    return std::array<double, 4>{x[static_cast<std::size_t>(v)], at.x(), at.y(), at.z()};
+  };
+  std::vector<std::vector<int>> out;
+  for (const auto& [key, group] : by_key) {
+    if (group.size() < 2) continue;
+    std::vector<std::pair<std::array<double, 4>, int>> ranked;
+    for (int v : group) ranked.emplace_back(where(v), v);
+    std::stable_sort(ranked.begin(), ranked.end(), [](const auto& l, const auto& r) {
+      return l.first < r.first;
+    });
+    std::vector<int>& ordered = out.emplace_back();
+    for (const auto& [at, v] : ranked) ordered.push_back(v);
+  }
+  return out;
+}
+
+std::vector<std::string> twin_keys(const Assembly& a,
+                                   const std::vector<std::string>& keys,
+                                   const std::vector<int>& vars,
+                                   const std::vector<double>& x) {
+  std::vector<std::string> out = keys;
+  for (const std::vector<int>& twins : twin_groups(a, keys, vars, x)) {
+    for (std::size_t r = 1; r < twins.size(); ++r) {
+      std::string& key = out[static_cast<std::size_t>(twins[r])];
+      key = fmt::format("{}#twin{}", key, r);
+    }
+  }
+  return out;
 }
 
 }  // namespace fabkit::hacks::detail

@@ -34,4 +34,20 @@ struct ClosureGap {
 };
 std::vector<ClosureGap> closure_gaps(const Assembly& assembly, const std::vector<double>& x);
 
+/// Twins among the parameters `vars`: parameters with equal `keys` (Assembly::parameter_keys)
+/// because their parts hang the same way from the same thing — two S-hooks' places on one
+/// rail. Each group ordered by the twins' values at x, then by where their connections are in
+/// the world: the same order whatever the parts are called or the order they were connected in.
+std::vector<std::vector<int>> twin_groups(const Assembly& a,
+                                          const std::vector<std::string>& keys,
+                                          const std::vector<int>& vars,
+                                          const std::vector<double>& x);
+/// `keys` with "#twin<rank>" added to each twin of `vars` after the first of its group: keyed
+/// draws by them give twins values of their own (equal draws put both hooks on a rail in one
+/// place on every draw).
+std::vector<std::string> twin_keys(const Assembly& a,
+                                   const std::vector<std::string>& keys,
+                                   const std::vector<int>& vars,
+                                   const std::vector<double>& x);
+
 }  // namespace fabkit::hacks::detail

@@ -1,8 +1,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <array>
-#include <map>
 
 #include "cycle_closure.h"
 #include "random.h"
@@ -156,47 +154,16 @@ bool close_again(const Problem& p,
 std::vector<std::vector<int>> twin_groups(const Problem& p,
                                           const std::vector<int>& vars,
                                           const std::vector<double>& x) {
-  const Assembly& a = *p.assembly;
-  std::map<std::string, std::vector<int>> by_key;
-  for (int v : vars) by_key[(*p.parameter_keys)[static_cast<std::size_t>(v)]].push_back(v);
-  // Where each twin is: its value, then where its connection is in the world. A name or a
-  // connect's place in the file could tell them apart too, but then renaming the parts or
-  // building in another order would hand the draws round differently.
-  auto where = [&](int v) {
-    const ParamInfo& info = a.parameters()[static_cast<std::size_t>(v)];
-    const Vec3 at = a.connection_frames<double>(info.connection, x.data()).first.t;
-    return std::array<double, 4>{x[static_cast<std::size_t>(v)], at.x(), at.y(), at.z()};
-  };
-  std::vector<std::vector<int>> out;
-  for (const auto& [key, group] : by_key) {
-    if (group.size() < 2) continue;
-    std::vector<std::pair<std::array<double, 4>, int>> ranked;
-    for (int v : group) ranked.emplace_back(where(v), v);
-    std::stable_sort(ranked.begin(), ranked.end(), [](const auto& l, const auto& r) {
-      return l.first < r.first;
-    });
-    std::vector<int>& ordered = out.emplace_back();
-    for (const auto& [at, v] : ranked) ordered.push_back(v);
-  }
-  return out;
+  return twin_groups(*p.assembly, *p.parameter_keys, vars, x);
 }
 
 std::vector<std::string> draw_keys(const Problem& p,
                                    const std::vector<int>& vars,
                                    const std::vector<double>& x) {
+  const std::vector<std::string> all = twin_keys(*p.assembly, *p.parameter_keys, vars, x);
   std::vector<std::string> out;
   out.reserve(vars.size());
-  std::map<int, std::size_t> slot;  // parameter → its place in vars
-  for (std::size_t k = 0; k < vars.size(); ++k) {
-    out.push_back((*p.parameter_keys)[static_cast<std::size_t>(vars[k])]);
-    slot[vars[k]] = k;
-  }
-  for (const std::vector<int>& twins : twin_groups(p, vars, x)) {
-    for (std::size_t r = 1; r < twins.size(); ++r) {
-      std::string& key = out[slot[twins[r]]];
-      key = fmt::format("{}#twin{}", key, r);
-    }
-  }
+  for (int v : vars) out.push_back(all[static_cast<std::size_t>(v)]);
   return out;
 }
 

@@ -286,15 +286,12 @@ bool close_again(const Problem& p,
                  std::vector<double>& x,
                  const SolveOptions& o);
 
-/// Twins among `vars`: parameters with equal keys (Assembly::parameter_keys), because their
-/// parts hang the same way from the same thing — two S-hooks' places on one rail. Each group
-/// ordered by the twins' values at x, then by where their connections are in the world: the
-/// same order whatever the parts are called or the order they were connected in.
+/// twin_groups (cycle_closure.h) of p's parameter keys.
 std::vector<std::vector<int>> twin_groups(const Problem& p,
                                           const std::vector<int>& vars,
                                           const std::vector<double>& x);
-/// The keys draw_keyed draws `vars` by: Assembly::parameter_keys(), but a twin after the first
-/// of its group gets "#twin<rank>" added.
+/// The keys draw_keyed draws `vars` by, one per entry of `vars`: twin_keys of p's parameter
+/// keys.
 std::vector<std::string> draw_keys(const Problem& p,
                                    const std::vector<int>& vars,
                                    const std::vector<double>& x);
