@@ -493,6 +493,15 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     const Variables vars = select_variables(assembly, /*physics=*/true, &problem);
     if (static_cast<int>(vars.index.size()) > kOtherClosingsUpTo) return first;
     std::vector<std::vector<Mat4>> seen{assembly.part_frames(step1.x)};
+    // A closing puts every part somewhere no earlier one did, or it is not tried.
+    auto unseen = [&](std::vector<double> start) -> std::optional<std::vector<double>> {
+      std::vector<Mat4> frames = assembly.part_frames(start);
+      for (const std::vector<Mat4>& f : seen) {
+        if (same_poses(f, frames)) return std::nullopt;
+      }
+      seen.push_back(std::move(frames));
+      return start;
+    };
     // Closing k: every unbounded angle half a turn round (k = 0), or seeded random values
     // (odd k only the unbounded angles), closed again as step 2's unfolding closes its redraws.
     auto closing = [&](int k) -> std::optional<std::vector<double>> {
@@ -506,12 +515,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
         draw_keyed(problem, vars.index, options.seed, kOtherClosingStream + k, k % 2 == 1, start);
       }
       if (!close_again(problem, vars, start, opts)) return std::nullopt;
-      const std::vector<Mat4> frames = assembly.part_frames(start);
-      for (const std::vector<Mat4>& f : seen) {
-        if (same_poses(f, frames)) return std::nullopt;
-      }
-      seen.push_back(frames);
-      return start;
+      return unseen(std::move(start));
     };
     // Twins hung on one primitive — identical parts hung the same way from one rod, rail or
     // edge, such as two S-hooks carrying a bar — are spread evenly along it first, the rest as
@@ -555,12 +559,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
         const StepResult hung = hang.relax(start, opts.max_iterations);
         if (hung.closed) start = hung.x;
       }
-      const std::vector<Mat4> frames = assembly.part_frames(start);
-      for (const std::vector<Mat4>& f : seen) {
-        if (same_poses(f, frames)) return std::nullopt;
-      }
-      seen.push_back(frames);
-      return start;
+      return unseen(std::move(start));
     };
     if (std::optional<std::vector<double>> start = spread(); start && !stop->passed()) {
       GroupOutcome spread_out = relax_and_judge(group_problem(g), std::move(*start), opts);
