@@ -34,6 +34,9 @@ constexpr int kOtherClosingsUpTo = 64;
 constexpr int kOtherClosingStream = 2000;
 // Steps in which twins on one primitive are spread along it (solve(), relax_free_group).
 constexpr int kSpreadSteps = 10;
+// Other closings the twins are spread from when they cannot be spread from the verified
+// configuration.
+constexpr int kSpreadFromClosings = 4;
 // Starts of the closure search for each of step 1's random starts when a design is solved
 // again because nothing held (solve()).
 constexpr int kHarderStartClosings = 4;
@@ -49,6 +52,94 @@ double group_energy(const Problem& p, const std::vector<double>& x) {
               (frames[i].topLeftCorner<3, 3>() * p.coms[i] + frames[i].topRightCorner<3, 1>()).z();
   }
   return energy;
+}
+
+// Where parameter v puts its connector at `value` (the rest of x as given), in the frame of
+// the part the parameter belongs to: a point along that part's primitive.
+Vec3 connector_in_own_part(const Assembly& a, int v, std::vector<double> x, double value) {
+  const ParamInfo& info = a.parameters()[static_cast<std::size_t>(v)];
+  x[static_cast<std::size_t>(v)] = value;
+  const auto [first, second] = a.connection_frames<double>(info.connection, x.data());
+  const bool first_side = a.connection(info.connection).first.part == info.part;
+  const Rigid<double> part = a.all_part_frames<double>(x.data())[info.part.index()];
+  return (part.inverse() * (first_side ? first : second)).t;
+}
+
+// Twins (parameters `twins`, at `spread` along what they hang from) that carry one part's rod
+// between them — two S-hooks on a rail, or on two short rods, with a bar through their lower
+// hooks — hold it as far apart as they hang, centred on the point of the rod nearest its
+// centre of mass: hooks spread apart but holding the bar where the closing left them (side by
+// side) lean together, and the bar slid through them before they hung plumb, out of one of
+// them or onto its end (a 400 mm rail; rods 110 mm apart). Returns the rod's positions
+// (parameter, value), in the order the twins hold it now; nothing where the twins do not all
+// carry one rod of one part, one position each, or it is shorter than their spacing.
+std::vector<std::pair<int, double>> carried_places(const Assembly& a,
+                                                   const std::vector<int>& movable,
+                                                   const std::vector<int>& twins,
+                                                   const std::vector<double>& spread,
+                                                   const std::vector<double>& x) {
+  // For each twin, the one position along a rod of another part its other connections have.
+  std::vector<int> held;
+  std::optional<std::pair<PartId, PrimitiveId>> rod;
+  for (int v : twins) {
+    const ParamInfo& info = a.parameters()[static_cast<std::size_t>(v)];
+    const Connection& on_primitive = a.connection(info.connection);
+    const PartId twin =
+        on_primitive.first.part == info.part ? on_primitive.second.part : on_primitive.first.part;
+    std::vector<int> found;
+    for (int w : movable) {
+      const ParamInfo& other = a.parameters()[static_cast<std::size_t>(w)];
+      const Connection& c = a.connection(other.connection);
+      if (other.connection == info.connection || other.part == twin || other.part == info.part ||
+          (c.first.part != twin && c.second.part != twin) || !other.spec.critical_dim ||
+          other.spec.tag == ParamTag::kUnbounded ||
+          a.node(other.part).part->primitive(other.primitive).type != PrimitiveType::kRod) {
+        continue;
+      }
+      found.push_back(w);
+    }
+    if (found.size() != 1) return {};
+    const ParamInfo& carried = a.parameters()[static_cast<std::size_t>(found.front())];
+    if (rod && *rod != std::pair(carried.part, carried.primitive)) return {};
+    rod = std::pair(carried.part, carried.primitive);
+    held.push_back(found.front());
+  }
+  if (!rod || held.size() != twins.size()) return {};
+  // How far apart the twins hang (mm), along the line through the outermost.
+  std::vector<double> at = x;
+  for (std::size_t r = 0; r < twins.size(); ++r) at[static_cast<std::size_t>(twins[r])] = spread[r];
+  std::vector<Vec3> hung;
+  for (int v : twins) {
+    const ParamInfo& info = a.parameters()[static_cast<std::size_t>(v)];
+    const auto [first, second] = a.connection_frames<double>(info.connection, at.data());
+    hung.push_back(a.connection(info.connection).first.part == info.part ? first.t : second.t);
+  }
+  const Vec3 across = hung.back() - hung.front();
+  if (across.norm() < 1e-9) return {};
+  std::vector<double> offsets;
+  for (const Vec3& p : hung) offsets.push_back((p - hung.front()).dot(across) / across.norm());
+  std::sort(offsets.begin(), offsets.end());
+  const double middle = 0.5 * (offsets.front() + offsets.back());
+  // The rod: its ends and the point nearest the carried part's centre of mass.
+  const ParamSpec& on_rod = a.parameters()[static_cast<std::size_t>(held.front())].spec;
+  const Vec3 rod_start = connector_in_own_part(a, held.front(), x, on_rod.lo);
+  const Vec3 rod_axis = connector_in_own_part(a, held.front(), x, on_rod.hi) - rod_start;
+  const double length = rod_axis.norm();
+  if (length < 1e-9 || offsets.back() - offsets.front() > length) return {};
+  const Vec3 com = a.node(rod->first).part->center_of_mass;
+  const double centre = (com - rod_start).dot(rod_axis) / length;
+  // Shifted as little as fits the rod when the centre is too near an end.
+  const double shift =
+      std::clamp(centre, middle - offsets.front(), length - (offsets.back() - middle)) - middle;
+  std::vector<int> order = held;
+  std::stable_sort(order.begin(), order.end(), [&](int l, int r) {
+    return x[static_cast<std::size_t>(l)] < x[static_cast<std::size_t>(r)];
+  });
+  std::vector<std::pair<int, double>> out;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    out.emplace_back(order[k], on_rod.lo + (on_rod.hi - on_rod.lo) * (offsets[k] + shift) / length);
+  }
+  return out;
 }
 
 double ms_since(Clock::time_point t) {
@@ -504,7 +595,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     };
     // Closing k: every unbounded angle half a turn round (k = 0), or seeded random values
     // (odd k only the unbounded angles), closed again as step 2's unfolding closes its redraws.
-    auto closing = [&](int k) -> std::optional<std::vector<double>> {
+    auto closed = [&](int k) -> std::optional<std::vector<double>> {
       std::vector<double> start = step1.x;
       if (k == 0) {
         for (int v : vars.index) {
@@ -515,41 +606,73 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
         draw_keyed(problem, vars.index, options.seed, kOtherClosingStream + k, k % 2 == 1, start);
       }
       if (!close_again(problem, vars, start, opts)) return std::nullopt;
-      return unseen(std::move(start));
+      return start;
+    };
+    auto closing = [&](int k) -> std::optional<std::vector<double>> {
+      std::optional<std::vector<double>> start = closed(k);
+      return start ? unseen(std::move(*start)) : std::nullopt;
     };
     // Twins hung on one primitive — identical parts hung the same way from one rod, rail or
     // edge, such as two S-hooks carrying a bar — are spread evenly along it first, the rest as
     // verified, and the cycles closed with those places held. That is how such things are hung,
     // and a rest the random closings rarely reach: closing a cycle from a random draw brings
     // the twins back together, and a bar in two hooks side by side is a seesaw.
-    auto spread = [&]() -> std::optional<std::vector<double>> {
-      std::vector<double> start = step1.x;
-      std::vector<double> goal = step1.x;
+    bool nothing_to_spread = false;  // no twins on one primitive
+    auto spread = [&](const std::vector<double>& from) -> std::optional<std::vector<double>> {
+      std::vector<double> start = from;
       std::vector<char> placed(start.size(), 0);
-      for (const std::vector<int>& twins : twin_groups(problem, vars.index, start)) {
+      // The held parameters moved from where they are to `goal` in steps, the cycles closed
+      // again after each with the others (one long move leaves a gap the closing does not
+      // bridge: the bar's hooks 300 mm apart at once); false if a closing fails.
+      auto move_to = [&](const std::vector<std::pair<int, double>>& goal) {
+        std::vector<double> moved = start;
+        std::vector<char> held = placed;
+        for (const auto& [v, value] : goal) held[static_cast<std::size_t>(v)] = 1;
+        Variables rest;
+        for (std::size_t k = 0; k < vars.index.size(); ++k) {
+          if (held[static_cast<std::size_t>(vars.index[k])]) continue;
+          rest.index.push_back(vars.index[k]);
+          rest.scale.push_back(vars.scale[k]);
+        }
+        for (int step = 1; step <= kSpreadSteps; ++step) {
+          for (const auto& [v, value] : goal) {
+            const auto i = static_cast<std::size_t>(v);
+            moved[i] = start[i] + (value - start[i]) * step / kSpreadSteps;
+          }
+          if (!close_again(problem, rest, moved, opts)) return false;
+        }
+        start = std::move(moved);
+        placed = std::move(held);
+        return true;
+      };
+      const std::vector<std::vector<int>> twin_sets = twin_groups(problem, vars.index, start);
+      std::vector<std::pair<int, double>> spread_to;
+      for (const std::vector<int>& twins : twin_sets) {
         const ParamSpec& s = assembly.parameters()[static_cast<std::size_t>(twins.front())].spec;
         if (!s.critical_dim || s.tag == ParamTag::kUnbounded) continue;
         const auto n = static_cast<double>(twins.size());
         for (std::size_t r = 0; r < twins.size(); ++r) {
-          const auto i = static_cast<std::size_t>(twins[r]);
-          goal[i] = s.lo + (s.hi - s.lo) * (static_cast<double>(r) + 1) / (n + 1);
-          placed[i] = 1;
+          spread_to.emplace_back(twins[r],
+                                 s.lo + (s.hi - s.lo) * (static_cast<double>(r) + 1) / (n + 1));
         }
+      }
+      if (spread_to.empty()) nothing_to_spread = true;
+      if (spread_to.empty() || !move_to(spread_to)) return std::nullopt;
+      // Then what the twins carry is centred between them (carried_places). Where it cannot be
+      // brought there, the spread from this start is given up: the hooks would lean together
+      // and the bar slide through them onto its end (a 150 mm rail, measured).
+      for (const std::vector<int>& twins : twin_sets) {
+        std::vector<double> at;
+        for (int v : twins) at.push_back(start[static_cast<std::size_t>(v)]);
+        const std::vector<std::pair<int, double>> carried =
+            carried_places(assembly, vars.index, twins, at, start);
+        if (!carried.empty() && !move_to(carried)) return std::nullopt;
       }
       Variables rest;
       for (std::size_t k = 0; k < vars.index.size(); ++k) {
         if (placed[static_cast<std::size_t>(vars.index[k])]) continue;
         rest.index.push_back(vars.index[k]);
         rest.scale.push_back(vars.scale[k]);
-      }
-      if (rest.index.size() == vars.index.size()) return std::nullopt;
-      // Moved there in steps, the cycles closed again after each (one long move leaves a gap
-      // the closing does not bridge: the bar's hooks 300 mm apart at once).
-      for (int step = 1; step <= kSpreadSteps; ++step) {
-        for (std::size_t i = 0; i < start.size(); ++i) {
-          if (placed[i]) start[i] = step1.x[i] + (goal[i] - step1.x[i]) * step / kSpreadSteps;
-        }
-        if (!close_again(problem, rest, start, opts)) return std::nullopt;
       }
       // The rest hangs there first, those places still held: a hook spread along a rail leans
       // towards where the closing left what it carries, and let go from there at once it slid
@@ -561,7 +684,15 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       }
       return unseen(std::move(start));
     };
-    if (std::optional<std::vector<double>> start = spread(); start && !stop->passed()) {
+    // Spread from the verified configuration, else from the first other closings it can be
+    // spread from: two hooks hung side by side across a bar cannot be spread along their rail
+    // (the bar would have to turn through them; a 200 mm rail, measured).
+    std::optional<std::vector<double>> start = spread(step1.x);
+    for (int k = 0; !start && !nothing_to_spread && k < kSpreadFromClosings && !stop->passed();
+         ++k) {
+      if (std::optional<std::vector<double>> from = closed(k)) start = spread(*from);
+    }
+    if (start && !stop->passed()) {
       GroupOutcome spread_out = relax_and_judge(group_problem(g), std::move(*start), opts);
       if (holds(spread_out)) return spread_out;
     }
@@ -577,8 +708,8 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       std::vector<std::vector<double>> batch;
       while (static_cast<int>(batch.size()) < kOtherClosingsAtOnce && k < options.other_closings &&
              !stop->passed()) {
-        if (std::optional<std::vector<double>> closed = closing(k++)) {
-          batch.push_back(std::move(*closed));
+        if (std::optional<std::vector<double>> other = closing(k++)) {
+          batch.push_back(std::move(*other));
         }
       }
       std::vector<std::optional<GroupOutcome>> tried(batch.size());
