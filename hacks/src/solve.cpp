@@ -32,6 +32,13 @@ constexpr int kOtherClosingsAtOnce = 2;
 // answer the same on every machine.
 constexpr int kOtherClosingsUpTo = 64;
 constexpr int kOtherClosingStream = 2000;
+// Groups of up to kSmallGroup variables get kSmallGroupFactor times the other closings: each
+// relaxes in a millisecond or two, and 24 were too few for a slack chain of four medium
+// S-hooks whose closings nearly all rest with a hook at the open end of the next (its mirror
+// image found a rest that holds only on its 22nd closing with seed 1, and "fell apart" where
+// the chain rested; with 96 both rest for seeds 1-8).
+constexpr int kSmallGroup = 16;
+constexpr int kSmallGroupFactor = 4;
 // Steps in which twins on one primitive are spread along it (solve(), relax_free_group).
 constexpr int kSpreadSteps = 10;
 // Other closings the twins are spread from when they cannot be spread from the verified
@@ -703,10 +710,13 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     // long chain's relaxation from a random closing can take seconds.
     GroupOutcome best = std::move(first);
     double best_energy = group_energy(problem, best.x);
+    const int closings = static_cast<int>(vars.index.size()) <= kSmallGroup
+                             ? kSmallGroupFactor * options.other_closings
+                             : options.other_closings;
     int k = 0;
-    while (k < options.other_closings && !holds(best) && !stop->passed()) {
+    while (k < closings && !holds(best) && !stop->passed()) {
       std::vector<std::vector<double>> batch;
-      while (static_cast<int>(batch.size()) < kOtherClosingsAtOnce && k < options.other_closings &&
+      while (static_cast<int>(batch.size()) < kOtherClosingsAtOnce && k < closings &&
              !stop->passed()) {
         if (std::optional<std::vector<double>> other = closing(k++)) {
           batch.push_back(std::move(*other));

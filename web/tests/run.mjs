@@ -324,7 +324,7 @@ try {
     await click(q, 'solve');
     assert((await q.getByTestId('verdict').textContent()) === 'FALLS APART', 'chain verdict');
     const remedy = await q.getByTestId('remedy').textContent();
-    assert(/with s3\.hook1 and s2\.hook2 connected the other way round — alignment: flip/.test(remedy), `remedy: ${remedy}`);
+    assert(/with s1\.hook2 and s2\.hook1 connected the other way round — alignment: flip/.test(remedy), `remedy: ${remedy}`);
     // Its button makes that change (undoably) and solves again: the chain holds.
     await click(q, 'apply-remedy');
     await idle(q);

@@ -39,7 +39,8 @@ struct SolveOptions {
   /// SolveResult::remedy if one holds.
   bool seek_remedy = true;
   /// A group the target does not steer that does not hold where its verified configuration
-  /// rests is relaxed from up to this many other ways of closing its cycles (docs/hacks.md).
+  /// rests is relaxed from up to this many other ways of closing its cycles, four times as many
+  /// for a group of up to 16 variables (docs/hacks.md).
   int other_closings = 24;
   /// Step 1: starts of the closure search for a random start whose cycles a local closing does
   /// not close. solve() solves once more with four where the target was not reached, random
