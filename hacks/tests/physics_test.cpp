@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -1392,6 +1393,27 @@ TEST(Physics, ABarInTwoHooksApartRestsLevel) {
   expect_rests_level_between_hooks(d, solve(d.assembly));
 }
 
+// The curtain rod through two S-hooks on one rail `length` mm long, verified and solved with
+// `seed`, then `check`ed.
+void solve_bar_on_one_rail(int length,
+                           std::uint64_t seed,
+                           const std::function<void(const Design&, const SolveResult&)>& check) {
+  SCOPED_TRACE(fmt::format("rail {} mm, seed {}", length, seed));
+  const std::string text = bar_on_two_hooks(
+      fmt::format("  - {{name: rail, primitives: {{rod: {{type: rod, radius: 6, length: {}}}}}, "
+                  "frame: {{pos: [0, 0, 1200], rot: [0, 90, 0]}}}}\n",
+                  length),
+      "rail",
+      "rail");
+  DesignOptions options;
+  options.verify.seed = seed;
+  const Design d = load_design_text(text, "bar.yaml", PartsLibrary::builtin(), options);
+  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+  SolveOptions solve_options;
+  solve_options.seed = seed;
+  check(d, solve(d.assembly, solve_options));
+}
+
 // Both S-hooks on one rail, where the verification hangs them side by side (2.4 mm apart): a
 // rod resting on two points that close is a seesaw on one, and from there it tips and slides
 // out of them. The hooks may slide along the rail at no cost, and the solve, finding that way
@@ -1399,25 +1421,14 @@ TEST(Physics, ABarInTwoHooksApartRestsLevel) {
 // closings: docs/hacks.md), where the rod rests level. Issue 9 found this bar "sliding 172 mm
 // along a direction gravity does not act on" and declared falling apart. Whatever the seed.
 TEST(Physics, ABarThroughTwoHooksOnOneRailRestsLevel) {
-  const std::string text = bar_on_two_hooks(
-      "  - {name: rail, primitives: {rod: {type: rod, radius: 6, length: 900}}, "
-      "frame: {pos: [0, 0, 1200], rot: [0, 90, 0]}}\n",
-      "rail",
-      "rail");
   for (const std::uint64_t seed : {1, 2}) {
-    SCOPED_TRACE(seed);
-    DesignOptions options;
-    options.verify.seed = seed;
-    const Design d = load_design_text(text, "bar.yaml", PartsLibrary::builtin(), options);
-    ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
-    SolveOptions solve_options;
-    solve_options.seed = seed;
-    const SolveResult r = solve(d.assembly, solve_options);
-    expect_rests_level_between_hooks(d, r);
-    // Spread apart: a seesaw no more.
-    std::map<std::string, Mat4> at;
-    for (const SolvedPart& p : r.parts) at[p.name] = p.frame.matrix();
-    EXPECT_GT(std::abs(at["s1"](0, 3) - at["s2"](0, 3)), 100) << r.summary();
+    solve_bar_on_one_rail(900, seed, [](const Design& d, const SolveResult& r) {
+      expect_rests_level_between_hooks(d, r);
+      // Spread apart: a seesaw no more.
+      std::map<std::string, Mat4> at;
+      for (const SolvedPart& p : r.parts) at[p.name] = p.frame.matrix();
+      EXPECT_GT(std::abs(at["s1"](0, 3) - at["s2"](0, 3)), 100) << r.summary();
+    });
   }
 }
 
@@ -1428,21 +1439,8 @@ TEST(Physics, ABarThroughTwoHooksOnOneRailRestsLevel) {
 // between them). Statics as above, whatever the seed.
 TEST(Physics, ABarThroughTwoHooksOnRailsShorterThanItRestsLevel) {
   for (const int length : {150, 250, 400}) {
-    const std::string text = bar_on_two_hooks(
-        fmt::format("  - {{name: rail, primitives: {{rod: {{type: rod, radius: 6, length: {}}}}}, "
-                    "frame: {{pos: [0, 0, 1200], rot: [0, 90, 0]}}}}\n",
-                    length),
-        "rail",
-        "rail");
     for (const std::uint64_t seed : {1, 2}) {
-      SCOPED_TRACE(fmt::format("rail {} mm, seed {}", length, seed));
-      DesignOptions options;
-      options.verify.seed = seed;
-      const Design d = load_design_text(text, "bar.yaml", PartsLibrary::builtin(), options);
-      ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
-      SolveOptions solve_options;
-      solve_options.seed = seed;
-      expect_rests_level_between_hooks(d, solve(d.assembly, solve_options));
+      solve_bar_on_one_rail(length, seed, expect_rests_level_between_hooks);
     }
   }
 }
