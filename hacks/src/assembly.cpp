@@ -116,6 +116,32 @@ double rod_spin_to_up(const PartNode& n) {
   return std::abs(spin) < 1e-12 ? 0.0 : spin;
 }
 
+bool made_of_primitives(const Part& part);
+
+// A loose-primitive environment's part drawn again from the primitives placed so far (its mesh
+// and collision pieces are nothing but theirs, in the part's frame).
+void redraw_placed(Part& part, const std::vector<bool>& placed) {
+  part.mesh = TriangleMesh();
+  part.collision_pieces.clear();
+  part.collision_tags.clear();
+  part.collision_rims.clear();
+  for (std::size_t i = 0; i < part.primitives.size(); ++i) {
+    if (!placed[i]) continue;
+    part.mesh.append(primitive_mesh(part.primitives[i]));
+    add_primitive_pieces(part, static_cast<int>(i));
+  }
+}
+
+// Where an environment is: its frame, or for one placed primitive by primitive (its part at the
+// origin, each primitive at its own world frame) the world frame of its first placed primitive.
+Mat4 where_environment_is(const PartNode& n) {
+  const Mat4 frame = n.frame.matrix();
+  for (std::size_t k = 0; k < n.placed.size(); ++k) {
+    if (n.placed[k]) return frame * n.part->primitives[k].frame.matrix();
+  }
+  return frame;
+}
+
 }  // namespace
 
 Assembly Assembly::in_own_placement(Vec3* centre_out, std::vector<double>* shift_out) const {
@@ -147,10 +173,11 @@ Assembly Assembly::in_own_placement(Vec3* centre_out, std::vector<double>* shift
   for (std::size_t i = 0; i < out.parts_.size(); ++i) {
     const PartNode& n = out.parts_[i];
     if (!n.environment) continue;
-    centre += n.frame.pos;
+    const Mat4 at = where_environment_is(n);
+    centre += at.topRightCorner<3, 1>();
     ++environments;
     const std::string name = label(PartId{static_cast<int>(i)});
-    if (!first || name < first->first) first.emplace(name, n.placement.R);
+    if (!first || name < first->first) first.emplace(name, at.topLeftCorner<3, 3>());
   }
   Mat3 turn = Mat3::Identity();
   if (environments == 0 || !centre.allFinite()) {
@@ -180,8 +207,31 @@ Assembly Assembly::in_own_placement(Vec3* centre_out, std::vector<double>* shift
     placed_frame.topRightCorner<3, 1>() = pos;
     return Frame::from_matrix(placed_frame);
   };
-  for (PartNode& n : out.parts_) {
+  for (std::size_t i = 0; i < out.parts_.size(); ++i) {
+    PartNode& n = out.parts_[i];
     if (!n.environment) continue;
+    if (!n.placed.empty() && n.source && made_of_primitives(*n.source)) {
+      // Placed primitive by primitive: each primitive is placed, the part stays at the origin,
+      // as if it had been added there (moving the part would leave its primitives off the grid).
+      auto copy = std::make_shared<Part>(*n.part);
+      for (std::size_t k = 0; k < copy->primitives.size(); ++k) {
+        if (!n.placed[k]) continue;
+        Primitive& p = copy->primitives[k];
+        p.frame = placed(Frame::from_matrix(n.frame.matrix() * p.frame.matrix()));
+      }
+      redraw_placed(*copy, n.placed);
+      n.part = std::move(copy);
+      n.frame = Frame();
+      n.placement = Rigid<double>();
+      for (Connection& c : out.connections_) {
+        for (Connector* side : {&c.first, &c.second}) {
+          if (side->part.index() != i) continue;
+          side->base =
+              Rigid<double>::from_matrix(n.part->primitive(side->primitive).frame.matrix());
+        }
+      }
+      continue;
+    }
     n.frame = placed(n.frame);
     n.placement = Rigid<double>::from_matrix(n.frame.matrix());
   }
@@ -354,15 +404,7 @@ ConnectReport Assembly::add(const PrimitiveRef& primitive,
   if (made_of_primitives(*primitive.part)) {
     // Drawn where the primitives are placed, and without those not placed yet (which take no
     // part in anything until they are): the pictures and files show the world as added.
-    copy->mesh = TriangleMesh();
-    copy->collision_pieces.clear();
-    copy->collision_tags.clear();
-    copy->collision_rims.clear();
-    for (std::size_t i = 0; i < copy->primitives.size(); ++i) {
-      if (!n.placed[i]) continue;
-      copy->mesh.append(primitive_mesh(copy->primitives[i]));
-      add_primitive_pieces(*copy, static_cast<int>(i));
-    }
+    redraw_placed(*copy, n.placed);
   }
   n.part = std::move(copy);
   report.description = fmt::format("{} at {}", who, frame.to_string());

@@ -107,6 +107,49 @@ Outcome solve_text(const std::string& yaml) {
   return o;
 }
 
+// An environment placed primitive by primitive (the paper's Environment({"left": Rod, "right":
+// Rod}) with each rod added where it is, App. B.2) is placed like any other: the world moved and
+// turned, a curtain rod in two S-hooks hung from its two rods rests where it did, moved and
+// turned with it. (Its part sits at the origin, and the placement's centre and heading took
+// that for where it was: the design was solved as written, not in its own placement, until
+// 2026-12-06.)
+TEST(Physics, AnEnvironmentPlacedPrimitiveByPrimitiveIsPlacedToo) {
+  PrimitiveShape rod;
+  rod.radius = 6;
+  rod.length = 30;
+  auto solve_in = [&](const Frame& world) {
+    auto env = std::make_shared<Part>(
+        make_primitive_part({Primitive::make("left", PrimitiveType::kRod, rod),
+                             Primitive::make("right", PrimitiveType::kRod, rod)}));
+    const auto s1 = testing::make_part("DoubleHook");
+    const auto s2 = testing::make_part("DoubleHook");
+    const auto bar = testing::make_part("ShowerCurtainRod");
+    Assembly a;
+    EXPECT_TRUE(a.add({env, "left"}, world * Frame(Vec3(-150, 0, 1200), Vec3(0, 90, 0))).accepted);
+    EXPECT_TRUE(a.add({env, "right"}, world * Frame(Vec3(150, 0, 1200), Vec3(0, 90, 0))).accepted);
+    EXPECT_TRUE(a.connect({s1, "hook1"}, {env, "left"}).accepted);
+    EXPECT_TRUE(a.connect({bar, "rod"}, {s1, "hook2"}).accepted);
+    EXPECT_TRUE(a.connect({s2, "hook1"}, {env, "right"}).accepted);
+    EXPECT_TRUE(a.connect({s2, "hook2"}, {bar, "rod"}).accepted);
+    return solve(a);
+  };
+  const SolveResult here = solve_in(Frame());
+  ASSERT_TRUE(here.stable) << here.summary();
+  for (const Frame& world : {Frame(Vec3(1234.5, -876.5, 321.0), Vec3(0, 0, 37.0)),
+                             Frame(Vec3(-2500, 1800, -40), Vec3(0, 0, 251.5))}) {
+    SCOPED_TRACE(world.to_string());
+    const SolveResult there = solve_in(world);
+    EXPECT_TRUE(there.stable) << there.summary();
+    ASSERT_EQ(here.parts.size(), there.parts.size());
+    for (std::size_t i = 0; i < here.parts.size(); ++i) {
+      // The environment's part is at the origin in both; its rods are where they were added.
+      if (here.parts[i].environment) continue;
+      SCOPED_TRACE(here.parts[i].name);
+      EXPECT_LT((there.parts[i].frame.pos - world.apply(here.parts[i].frame.pos)).norm(), 1e-6);
+    }
+  }
+}
+
 // Moving the world by a turn about the vertical and a shift changes nothing physical: the
 // verdict, the potential (less the shift's share), the target's tilt and where every part
 // rests, moved with the world, to 10⁻⁶ mm — even where a rest state is one of a family (a hook
