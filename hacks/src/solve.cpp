@@ -652,25 +652,25 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
         placed = std::move(held);
         return true;
       };
-      const std::vector<std::vector<int>> twin_sets = twin_groups(problem, vars.index, start);
       std::vector<std::pair<int, double>> spread_to;
-      for (const std::vector<int>& twins : twin_sets) {
+      std::vector<std::pair<std::vector<int>, std::vector<double>>> spread_groups;
+      for (const std::vector<int>& twins : twin_groups(problem, vars.index, start)) {
         const ParamSpec& s = assembly.parameters()[static_cast<std::size_t>(twins.front())].spec;
         if (!s.critical_dim || s.tag == ParamTag::kUnbounded) continue;
         const auto n = static_cast<double>(twins.size());
+        std::vector<double> at;
         for (std::size_t r = 0; r < twins.size(); ++r) {
-          spread_to.emplace_back(twins[r],
-                                 s.lo + (s.hi - s.lo) * (static_cast<double>(r) + 1) / (n + 1));
+          at.push_back(s.lo + (s.hi - s.lo) * (static_cast<double>(r) + 1) / (n + 1));
+          spread_to.emplace_back(twins[r], at.back());
         }
+        spread_groups.emplace_back(twins, std::move(at));
       }
       if (spread_to.empty()) nothing_to_spread = true;
       if (spread_to.empty() || !move_to(spread_to)) return std::nullopt;
       // Then what the twins carry is centred between them (carried_places). Where it cannot be
       // brought there, the spread from this start is given up: the hooks would lean together
       // and the bar slide through them onto its end (a 150 mm rail, measured).
-      for (const std::vector<int>& twins : twin_sets) {
-        std::vector<double> at;
-        for (int v : twins) at.push_back(start[static_cast<std::size_t>(v)]);
+      for (const auto& [twins, at] : spread_groups) {
         const std::vector<std::pair<int, double>> carried =
             carried_places(assembly, vars.index, twins, at, start);
         if (!carried.empty() && !move_to(carried)) return std::nullopt;
