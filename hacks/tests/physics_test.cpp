@@ -1488,6 +1488,64 @@ TEST(Physics, ABarThroughTwoHooksOnRailsShorterThanItRestsLevel) {
   }
 }
 
+// The curtain rod through two S-hooks on a 400 mm rail, with the rod as the target at the level
+// rest the solve finds without one: every candidate of step 1 had the hooks side by side (a
+// seesaw) and fell apart, the rod 168 mm away and tilted 83° ("falls apart", seeds 1 and 2).
+// A group whose candidates all fall apart is tried as a free group is: it rests level, on its
+// target. With the goal moved 40 mm along the rail it rests level too (where the spread puts
+// it: 40 mm from the goal, along a family it may slide at no cost).
+TEST(Physics, ABarThroughTwoHooksAsTheTargetRestsLevel) {
+  const std::string free_text = bar_on_two_hooks(
+      "  - {name: rail, primitives: {rod: {type: rod, radius: 6, length: 400}}, "
+      "frame: {pos: [0, 0, 1200], rot: [0, 90, 0]}}\n",
+      "rail",
+      "rail");
+  const Design free = load_text(free_text);
+  ASSERT_TRUE(free.feasible()) << free.diagnostics.format();
+  const SolveResult rest = solve(free.assembly);
+  ASSERT_TRUE(rest.stable) << rest.summary();
+  Mat4 rod = Mat4::Identity();
+  for (const SolvedPart& p : rest.parts) {
+    if (p.name != "bar") continue;
+    const Part& bar = *free.assembly.node(PartId{free.assembly.part_count() - 1}).part;
+    rod = p.frame.matrix() * bar.primitive(bar.find_primitive("rod")).frame.matrix();
+  }
+  for (const double along : {0.0, 40.0}) {
+    Frame goal = Frame::from_matrix(rod);
+    goal.pos.x() += along;
+    std::string text = free_text;
+    text.replace(text.find("  - {name: bar, part: ShowerCurtainRod}\n"),
+                 std::string("  - {name: bar, part: ShowerCurtainRod}\n").size(),
+                 "");
+    text.replace(text.find("connections:"),
+                 std::string("connections:").size(),
+                 fmt::format("target: {{name: bar, part: ShowerCurtainRod, primitive: rod, frame: "
+                             "{{pos: [{}, {}, {}], rot: [{}, {}, {}]}}}}\nconnections:",
+                             goal.pos.x(),
+                             goal.pos.y(),
+                             goal.pos.z(),
+                             goal.rot.x(),
+                             goal.rot.y(),
+                             goal.rot.z()));
+    for (const std::uint64_t seed : {1, 2}) {
+      SCOPED_TRACE(fmt::format("goal {} mm along the rail, seed {}", along, seed));
+      DesignOptions options;
+      options.verify.seed = seed;
+      const Design d = load_design_text(text, "bar.yaml", PartsLibrary::builtin(), options);
+      ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+      SolveOptions solve_options;
+      solve_options.seed = seed;
+      const SolveResult r = solve(d.assembly, solve_options);
+      EXPECT_TRUE(r.stable) << r.summary();
+      EXPECT_LT(r.equilibrium_residual, 1e-6) << r.summary();
+      EXPECT_LE(r.max_penetration_mm, 0.5) << r.summary();
+      EXPECT_LT(r.target.tilt_deg, 0.1) << r.summary();
+      // Level, at the goal's height, the slide along the rail aside.
+      EXPECT_LT(r.target.position_mm, along + 1.0) << r.summary();
+    }
+  }
+}
+
 // Two S-hooks on two short rods 133 mm apart (each 30 mm long), where the closing left them
 // holding the bar side by side: they lean together and the bar slid out of them
 // ("falls apart", also with the rods 110 mm apart). Centred between them it rests level.
