@@ -866,6 +866,13 @@ std::string with_line_turned(const std::string& yaml, int line) {
   return out;
 }
 
+// At rest: stable, the potential flat to the equilibrium tolerance, nothing passing through.
+void expect_at_rest(const SolveResult& r) {
+  EXPECT_TRUE(r.stable) << r.summary();
+  EXPECT_LT(r.equilibrium_residual, 1e-6) << r.summary();
+  EXPECT_LE(r.max_penetration_mm, 0.5) << r.summary();
+}
+
 // A slack chain of four medium S-hooks (rods 52.1 mm apart, the right 40.3 mm lower) and its
 // mirror image both rest, whatever the seed. Nearly every way of closing it rests with a hook at
 // the open end of the next (it would slide off): with 24 other closings the mirror image found
@@ -881,10 +888,7 @@ TEST(Physics, ASlackChainAndItsMirrorImageBothRestWhateverTheSeed) {
       SCOPED_TRACE(fmt::format("mirrored {}, seed {}", mirrored, seed));
       SolveOptions options;
       options.seed = seed;
-      const SolveResult r = solve(d.assembly, options);
-      EXPECT_TRUE(r.stable) << r.summary();
-      EXPECT_LT(r.equilibrium_residual, 1e-6) << r.summary();
-      EXPECT_LE(r.max_penetration_mm, 0.5) << r.summary();
+      expect_at_rest(solve(d.assembly, options));
     }
   }
 }
@@ -1436,6 +1440,19 @@ TEST(Physics, ABarInTwoHooksApartRestsLevel) {
   expect_rests_level_between_hooks(d, solve(d.assembly));
 }
 
+// `text` verified and solved with `seed` (both draw from it), then `check`ed.
+void solve_with_seed(const std::string& text,
+                     std::uint64_t seed,
+                     const std::function<void(const Design&, const SolveResult&)>& check) {
+  DesignOptions options;
+  options.verify.seed = seed;
+  const Design d = load_design_text(text, "bar.yaml", PartsLibrary::builtin(), options);
+  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+  SolveOptions solve_options;
+  solve_options.seed = seed;
+  check(d, solve(d.assembly, solve_options));
+}
+
 // The curtain rod through two S-hooks on one rail `length` mm long, verified and solved with
 // `seed`, then `check`ed.
 void solve_bar_on_one_rail(int length,
@@ -1448,13 +1465,7 @@ void solve_bar_on_one_rail(int length,
                   length),
       "rail",
       "rail");
-  DesignOptions options;
-  options.verify.seed = seed;
-  const Design d = load_design_text(text, "bar.yaml", PartsLibrary::builtin(), options);
-  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
-  SolveOptions solve_options;
-  solve_options.seed = seed;
-  check(d, solve(d.assembly, solve_options));
+  solve_with_seed(text, seed, check);
 }
 
 // Both S-hooks on one rail, where the verification hangs them side by side (2.4 mm apart): a
@@ -1529,19 +1540,12 @@ TEST(Physics, ABarThroughTwoHooksAsTheTargetRestsLevel) {
                              goal.rot.z()));
     for (const std::uint64_t seed : {1, 2}) {
       SCOPED_TRACE(fmt::format("goal {} mm along the rail, seed {}", along, seed));
-      DesignOptions options;
-      options.verify.seed = seed;
-      const Design d = load_design_text(text, "bar.yaml", PartsLibrary::builtin(), options);
-      ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
-      SolveOptions solve_options;
-      solve_options.seed = seed;
-      const SolveResult r = solve(d.assembly, solve_options);
-      EXPECT_TRUE(r.stable) << r.summary();
-      EXPECT_LT(r.equilibrium_residual, 1e-6) << r.summary();
-      EXPECT_LE(r.max_penetration_mm, 0.5) << r.summary();
-      EXPECT_LT(r.target.tilt_deg, 0.1) << r.summary();
-      // Level, at the goal's height, the slide along the rail aside.
-      EXPECT_LT(r.target.position_mm, along + 1.0) << r.summary();
+      solve_with_seed(text, seed, [&](const Design&, const SolveResult& r) {
+        expect_at_rest(r);
+        EXPECT_LT(r.target.tilt_deg, 0.1) << r.summary();
+        // Level, at the goal's height, the slide along the rail aside.
+        EXPECT_LT(r.target.position_mm, along + 1.0) << r.summary();
+      });
     }
   }
 }
