@@ -72,12 +72,24 @@ Vec3 connector_in_own_part(const Assembly& a, int v, std::vector<double> x, doub
   return (part.inverse() * (first_side ? first : second)).t;
 }
 
+// `vars` without the parameters `held` marks (indexed by parameter).
+Variables except_held(const Variables& vars, const std::vector<char>& held) {
+  Variables rest;
+  for (std::size_t k = 0; k < vars.index.size(); ++k) {
+    if (held[static_cast<std::size_t>(vars.index[k])]) continue;
+    rest.index.push_back(vars.index[k]);
+    rest.scale.push_back(vars.scale[k]);
+  }
+  return rest;
+}
+
 // Twins (parameters `twins`, at `spread` along what they hang from) that carry one part's rod
 // between them — two S-hooks on a rail, or on two short rods, with a bar through their lower
-// hooks — hold it as far apart as they hang, centred on the point of the rod nearest its
-// centre of mass: hooks spread apart but holding the bar where the closing left them (side by
-// side) lean together, and the bar slid through them before they hung plumb, out of one of
-// them or onto its end (a 400 mm rail; rods 110 mm apart). Returns the rod's positions
+// hooks; a part that moves, not the rail seen from the bar's side — hold it as far apart as
+// they hang, centred on the point of the rod nearest its centre of mass: hooks spread apart
+// but holding the bar where the closing left them (side by side) lean together, and the bar
+// slid through them before they hung plumb, out of one of them or onto its end (a 400 mm
+// rail; rods 110 mm apart). Returns the rod's positions
 // (parameter, value), in the order the twins hold it now; nothing where the twins do not all
 // carry one rod of one part, one position each, or it is shorter than their spacing.
 std::vector<std::pair<int, double>> carried_places(const Assembly& a,
@@ -99,7 +111,7 @@ std::vector<std::pair<int, double>> carried_places(const Assembly& a,
       const Connection& c = a.connection(other.connection);
       if (other.connection == info.connection || other.part == twin || other.part == info.part ||
           (c.first.part != twin && c.second.part != twin) || !other.spec.critical_dim ||
-          other.spec.tag == ParamTag::kUnbounded ||
+          other.spec.tag == ParamTag::kUnbounded || a.node(other.part).environment ||
           a.node(other.part).part->primitive(other.primitive).type != PrimitiveType::kRod) {
         continue;
       }
@@ -635,12 +647,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
         std::vector<double> moved = start;
         std::vector<char> held = placed;
         for (const auto& [v, value] : goal) held[static_cast<std::size_t>(v)] = 1;
-        Variables rest;
-        for (std::size_t k = 0; k < vars.index.size(); ++k) {
-          if (held[static_cast<std::size_t>(vars.index[k])]) continue;
-          rest.index.push_back(vars.index[k]);
-          rest.scale.push_back(vars.scale[k]);
-        }
+        const Variables rest = except_held(vars, held);
         for (int step = 1; step <= kSpreadSteps; ++step) {
           for (const auto& [v, value] : goal) {
             const auto i = static_cast<std::size_t>(v);
@@ -675,12 +682,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
             carried_places(assembly, vars.index, twins, at, start);
         if (!carried.empty() && !move_to(carried)) return std::nullopt;
       }
-      Variables rest;
-      for (std::size_t k = 0; k < vars.index.size(); ++k) {
-        if (placed[static_cast<std::size_t>(vars.index[k])]) continue;
-        rest.index.push_back(vars.index[k]);
-        rest.scale.push_back(vars.scale[k]);
-      }
+      const Variables rest = except_held(vars, placed);
       // The rest hangs there first, those places still held: a hook spread along a rail leans
       // towards where the closing left what it carries, and let go from there at once it slid
       // back along the rail with it (the bar's hooks ended side by side again).
