@@ -218,7 +218,9 @@ int solve_design(Design design, const DesignSettings& settings, bool write) {
   close_stage();
   result.timings.insert(result.timings.begin(), {"verify", verify_ms});
   for (const Diagnostic& d : result.diagnostics) print_diagnostic(d);
-  if (!result.feasible) {
+  // Infeasible without a pose (no closed configuration): nothing to show or write. A pose in
+  // which parts pass through each other is infeasible too, but it is written, to be seen.
+  if (!result.feasible && result.parts.empty()) {
     std::fprintf(stderr, "error: %s\n", result.message.c_str());
     return result.diagnostics.has_errors() ? exit_code(result.diagnostics) : kExitInfeasible;
   }

@@ -319,6 +319,15 @@ SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
       result.timings.push_back({"remedy", ms_since(began)});
     }
   }
+  // Parts may not pass through each other (a constraint of step 2 and of the verdict): where
+  // the rest found leaves two inside each other, no configuration found satisfies the
+  // constraints, and the design is infeasible as far as the search went (the message says so).
+  // Flagged last: the retry and the remedy above both look for such a configuration.
+  if (result.feasible && !result.stable && result.termination != Termination::kTimeout &&
+      result.max_penetration_mm > kPenetrationToleranceMm) {
+    result.feasible = false;
+    result.termination = Termination::kInfeasible;
+  }
   return result;
 }
 
@@ -881,7 +890,8 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       result.diagnostics.error(
           codes::kPartsOverlap,
           fmt::format("{} and {} pass through each other by {:.1f} mm in the solved pose (at "
-                      "most {:g} mm is tolerated): no real parts rest like this",
+                      "most {:g} mm is tolerated): no real parts rest like this, and no "
+                      "configuration was found that keeps them apart (a search, not a proof)",
                       c.part_a,
                       c.part_b,
                       -c.distance_mm,

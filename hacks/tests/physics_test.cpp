@@ -1598,5 +1598,47 @@ TEST(Physics, TwinHooksSwappedByNameRestTheSame) {
   EXPECT_GT((a1 - a2).norm(), 100) << a.summary;
 }
 
+// A hook hung on a rail that runs inside a sleeve as long as the rail: the hook's wire lies on
+// the rail's surface (2.5 mm from its axis) for every value of its connection, inside the
+// sleeve's 20 mm, so every closure passes the hook through the sleeve — the design is
+// infeasible (non-penetration is one of its constraints). fabkit says so, names the two parts
+// and the depth, and still reports the pose; with the sleeve 100 mm above the rail the same
+// hook hangs free and holds.
+std::string hook_on_a_sleeved_rail(double sleeve_z) {
+  return fmt::format(R"(fabkit: hacks/1
+name: sleeved rail
+environment:
+  - {{name: rail, primitives: {{rod: {{type: rod, radius: 2.5, length: 300}}}}, frame: {{pos: [0, 0, 500], rot: [90, 0, 0]}}}}
+  - {{name: sleeve, primitives: {{rod: {{type: rod, radius: 20, length: 300}}}}, frame: {{pos: [0, 0, {}], rot: [90, 0, 0]}}}}
+parts:
+  - {{name: hook, part: DoubleHookMedium}}
+connections:
+  - connect: [hook.hook1, rail.rod]
+)",
+                     sleeve_z);
+}
+
+TEST(Physics, AHookThatCanOnlyHangThroughASleeveIsInfeasible) {
+  const Design sleeved = load_text(hook_on_a_sleeved_rail(500));
+  ASSERT_TRUE(sleeved.feasible()) << sleeved.diagnostics.format();
+  const SolveResult r = solve(sleeved.assembly);
+  EXPECT_FALSE(r.stable) << r.summary();
+  EXPECT_FALSE(r.feasible) << r.summary();
+  EXPECT_EQ(r.termination, Termination::kInfeasible) << r.summary();
+  // Deeper than the wire's distance to the sleeve's surface less a wire (about 15 mm).
+  EXPECT_GT(r.max_penetration_mm, 10) << r.summary();
+  EXPECT_NE(r.message.find("sleeve and hook pass through each other"), std::string::npos)
+      << r.message;
+  EXPECT_NE(r.message.find("a search, not a proof"), std::string::npos) << r.message;
+  EXPECT_EQ(r.parts.size(), 3u);  // the pose is still reported
+
+  const Design apart = load_text(hook_on_a_sleeved_rail(600));
+  ASSERT_TRUE(apart.feasible()) << apart.diagnostics.format();
+  const SolveResult free = solve(apart.assembly);
+  EXPECT_TRUE(free.stable) << free.summary();
+  EXPECT_TRUE(free.feasible) << free.summary();
+  EXPECT_LE(free.max_penetration_mm, 0.5) << free.summary();
+}
+
 }  // namespace
 }  // namespace fabkit::hacks

@@ -213,6 +213,10 @@ def test_contacts_are_reported_and_an_overlapping_pose_is_not_stable():
     assert {a, b} == {"backseat", "caddy"}
     assert d == pytest.approx(-r.max_penetration_mm)
     assert "pass through each other" in r.message
+    # Non-penetration is a constraint: no rest found satisfies it, so the design is infeasible
+    # as found (a search, not a proof), and its pose is still there to look at.
+    assert r.feasible is False
+    assert "no configuration was found that keeps them apart" in r.message
     expected = json.loads(r.to_json())
     assert expected["checks"]["max_penetration_mm"] == pytest.approx(r.max_penetration_mm, abs=1e-3)
     assert [tuple(c["parts"]) for c in expected["contacts"]] == [(x, y) for x, y, _ in r.contacts]

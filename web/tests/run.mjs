@@ -228,7 +228,7 @@ try {
     assert((await page.evaluate(() => window.__fabkit.designYaml())).match(/alignment: flip/g).length === 2, 'flip not in design');
     const v = await page.getByTestId('verdict').textContent({ timeout: 5000 })
       .catch(async () => `none (${await page.getByTestId('solve-result').textContent()})`);
-    assert(v === 'STABLE' || v === 'FALLS APART' || v === 'Infeasible', `verdict after flip: ${v}`);
+    assert(['STABLE', 'FALLS APART', 'PARTS PASS THROUGH', 'NOT AT REST', 'Infeasible'].includes(v), `verdict after flip: ${v}`);
     await click(page, 'undo');
   });
   if (page) await page.close();
@@ -323,6 +323,15 @@ try {
     await idle(q);
     await click(q, 'solve');
     assert((await q.getByTestId('verdict').textContent()) === 'FALLS APART', 'chain verdict');
+    // A design whose every rest found passes parts through each other says that, not "falls
+    // apart": the diaper caddy's target is inside the seat back (docs/gallery.md).
+    const c = await freshPage();
+    await c.getByTestId('open-file').setInputFiles(path.join(repo, 'examples/hacks/diaper_caddy.yaml'));
+    await idle(c);
+    await click(c, 'solve');
+    assert((await c.getByTestId('verdict').textContent()) === 'PARTS PASS THROUGH', 'caddy verdict');
+    assert(/backseat and caddy pass through each other/.test(await c.getByTestId('termination').textContent()), 'caddy message');
+    await c.close();
     const remedy = await q.getByTestId('remedy').textContent();
     assert(/with s1\.hook2 and s2\.hook1 connected the other way round — alignment: flip/.test(remedy), `remedy: ${remedy}`);
     // Its button makes that change (undoably) and solves again: the chain holds.

@@ -29,6 +29,8 @@ export interface SolveResult {
   stable: boolean; feasible: boolean; termination: string; message: string;
   target: PoseError & { step1?: PoseError; primitive?: string; goal?: Frame };
   parts: PlacedPart[]; slipping: string[];
+  /** The verdict's checks (docs/result-format.md); deeper than 0.5 mm: parts pass through each other. */
+  checks?: { max_penetration_mm: number; equilibrium_residual: number };
   /** For a design that falls apart: a change to it that holds, found by solving it (docs/result-format.md). */
   remedy?: string;
   /** Every part's frame after step 1 (before relaxing under gravity); added by the server for the editor. */

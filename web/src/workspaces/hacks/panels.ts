@@ -6,7 +6,7 @@ import { lazyThumbnail, renderPreview } from './thumbs';
 import { renderTree } from './tree';
 import { el, frameEditor } from '../../shell/ui';
 import { connectSteps, describeError } from './workspace';
-import { PRIMITIVE_WORDS_DOC, categoryLabel, guidance, shapeSummary, shortName, terminationText } from './words';
+import { PRIMITIVE_WORDS_DOC, categoryLabel, guidance, shapeSummary, shortName, terminationText, verdictText } from './words';
 import type { HacksWorkspace } from './workspace';
 
 const fmt = (x: number, d = 1) => x.toFixed(d);
@@ -142,7 +142,7 @@ export class Panels {
       // one colour for both questions: holds and on target (green), holds but misses (amber), falls (red)
       const state = !r.stable ? 'falls' : hasTarget && !on ? 'off' : 'stable';
       this.solveBox.append(
-        el('div', { class: `verdict ${r.stable ? 'stable' : 'falls'}`, 'data-testid': 'verdict' }, r.stable ? 'STABLE' : 'FALLS APART'),
+        el('div', { class: `verdict ${r.stable ? 'stable' : 'falls'}`, 'data-testid': 'verdict' }, verdictText(r)),
         ...(hasTarget ? [el('div', { class: `target-verdict ${on ? 'on' : 'off'}`, 'data-testid': 'target-verdict' },
           on ? `ON TARGET (within ${tol.mm} mm, ${tol.deg}°)` : `OFF TARGET (more than ${tol.mm} mm or ${tol.deg}° from the goal)`)] : []),
         el('div', { 'data-testid': 'target-error' }, hasTarget ? `Target error: ${fmt(t.pos_error_mm)} mm, ${fmt(t.rot_error_deg)}° — ${describeError(t)}` : 'No target'),

@@ -33,6 +33,15 @@ export function terminationText(t: string): string {
   } as Record<string, string>)[t] ?? t.toLowerCase().replace(/_/g, ' ');
 }
 
+/** The solve's verdict in one or two words: what holds, what slips off, what passes through
+ *  something (no real parts rest like that), and what is not yet a rest state. */
+export function verdictText(r: { stable: boolean; slipping: string[]; checks?: { max_penetration_mm: number } }): string {
+  if (r.stable) return 'STABLE';
+  if (r.slipping.length) return 'FALLS APART';
+  if ((r.checks?.max_penetration_mm ?? 0) > 0.5) return 'PARTS PASS THROUGH';
+  return 'NOT AT REST';
+}
+
 /** "arc angle 270°, arc radius 11.6 mm, wire radius 2 mm": a primitive's sizes with units. */
 export function shapeSummary(shape: Record<string, number>): string {
   const name: Record<string, string> = { thickness: 'wire radius', arc_radius: 'arc radius', arc_angle: 'arc angle', inner_radius: 'inner radius', open_gap: 'opening', dist: 'jaw depth' };
