@@ -799,11 +799,25 @@ bool Assembly::verify_closure(ConnectionId id,
     std::string unproved = "not proved impossible";
     if (bounds && bounds->tightest >= 0) {
       const detail::CycleSegment& s = bounds->segments[static_cast<std::size_t>(bounds->tightest)];
-      unproved +=
-          fmt::format(": the other parts can span up to {:.0f} mm, and at least {:.0f} mm lie {}",
-                      bounds->tightest_others_span,
-                      s.range.lo,
-                      s.description);
+      if (s.range.lo > bounds->tightest_others_span) {
+        // The measured extremes already rule a closure out; only what sampling could have
+        // missed (the margin) keeps this from being a proof. Said as such, not as a span that
+        // reads like a proof next to "not proved".
+        unproved = fmt::format(
+            "very likely impossible, though not proved: at least {:.0f} mm lie {}, and the "
+            "other parts' longest reach found is {:.0f} mm (the bounds allow up to {:.0f} mm "
+            "for extremes the sampling could have missed)",
+            s.range.lo,
+            s.description,
+            bounds->tightest_others_span,
+            bounds->tightest_others_span + bounds->margin);
+      } else {
+        unproved +=
+            fmt::format(": the other parts can span up to {:.0f} mm, and at least {:.0f} mm lie {}",
+                        bounds->tightest_others_span,
+                        s.range.lo,
+                        s.description);
+      }
     }
     diags.error(codes::kCycleNotClosable,
                 fmt::format("cannot close cycle {}: no closure found within the budget of {} "

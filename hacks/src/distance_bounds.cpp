@@ -365,6 +365,7 @@ PolygonVerdict check_cycle_polygon(const Assembly& assembly, ConnectionId closin
     total_hi += s.range.hi;
     total_margin += s.range.margin;
   }
+  verdict.margin = total_margin;
   for (std::size_t k = 0; k < verdict.segments.size(); ++k) {
     const double others = total_hi - verdict.segments[k].range.hi;
     const double excess = verdict.segments[k].range.lo - others;

@@ -41,6 +41,9 @@ struct PolygonVerdict {
   /// how near the bounds are to ruling one out.
   int tightest = -1;
   double tightest_others_span = 0;
+  /// How far the segments' true extremes can lie beyond their measured ranges, together (the
+  /// sampling's covering margin): a reject needs a minimum beyond the others' span by more.
+  double margin = 0;
   std::vector<CycleSegment> segments;
 };
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <regex>
 
 #include "../src/constraints.h"
 #include "../src/cycle_closure.h"
@@ -285,6 +286,50 @@ connections:
   EXPECT_EQ(d.steps.back().report.starts_used, 16);
   // The front end gets the best configuration found, one frame per part.
   EXPECT_EQ(d.steps.back().report.best_part_frames.size(), 2u);
+}
+
+// A chain of six S-hooks between two rods a little farther apart than the longest reach the
+// distance bounds measure, but within what their sampling margin allows: the search finds no
+// closure and the bounds cannot prove there is none. The message must not read as a proof
+// ("can span up to 254 mm, and at least 265 mm lie between" next to "not proved impossible"):
+// it says the closure is very likely impossible, with the measured reach and what the bounds
+// allow. Where the numbers do not rule a closure out, the reach quoted is at least the gap.
+TEST(Verify, AnUnprovedCycleNeverQuotesSpansThatProveIt) {
+  auto chain = [](double span) {
+    std::string t = fmt::format(R"(environment:
+  - {{name: l, primitives: {{rod: {{type: rod, radius: 2.5, length: 300}}}}, frame: {{pos: [{}, 0, 500], rot: [90, 0, 0]}}}}
+  - {{name: r, primitives: {{rod: {{type: rod, radius: 2.5, length: 300}}}}, frame: {{pos: [{}, 0, 444.13], rot: [90, 0, 180]}}}}
+parts:
+)",
+                                -span / 2,
+                                span / 2);
+    for (int i = 1; i <= 6; ++i) t += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
+    t += "connections:\n  - {connect: [s6.hook2, r.rod], alignment: flip}\n";
+    for (int i = 5; i >= 1; --i)
+      t += fmt::format("  - connect: [s{}.hook2, s{}.hook1]\n", i, i + 1);
+    return t + "  - connect: [s1.hook1, l.rod]\n";
+  };
+  int likely = 0;
+  for (double span : {244.0, 264.42}) {
+    SCOPED_TRACE(span);
+    const Design d = load_text(chain(span));
+    ASSERT_TRUE(d.readable) << d.diagnostics.format();
+    ASSERT_FALSE(d.feasible());
+    ASSERT_FALSE(has_diagnostic(d.diagnostics, codes::kCycleTooLong, "")) << d.diagnostics.format();
+    const std::string m = d.diagnostics.format();
+    const std::regex quoted(R"(can span up to (\d+) mm, and at least (\d+) mm lie)");
+    std::smatch g;
+    if (std::regex_search(m, g, quoted)) {
+      EXPECT_LE(std::stoi(g[2].str()), std::stoi(g[1].str())) << m;
+    } else {
+      EXPECT_NE(m.find("very likely impossible, though not proved: at least 265 mm lie between "
+                       "r.rod and l.rod, and the other parts' longest reach found is 254 mm"),
+                std::string::npos)
+          << m;
+      ++likely;
+    }
+  }
+  EXPECT_EQ(likely, 1);  // the farther rods
 }
 
 TEST(Verify, FeasibleCyclesCloseToMicrometres) {
