@@ -752,6 +752,30 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     }
     return best;
   };
+  // A rest of the target's group found without the target (relax_free_group) is where its
+  // search happened to put it; where it can slide at no cost (hooks along a rail), the target
+  // is pulled from there towards its goal (step 1's fit from the rest), settled and relaxed
+  // again: kept if it holds and rests nearer the goal.
+  auto target_error = [&](const GroupOutcome& o) {
+    const PoseError e = pose_error(
+        *whole.target,
+        Rigid<double>::from_matrix(assembly.part_frames(o.x)[whole.target->part.index()]));
+    return e.position_mm + e.tilt_deg + (e.twist_free ? 0.0 : std::abs(e.twist_deg));
+  };
+  auto pulled_to_target = [&](const GroupOutcome& rest,
+                              const SolveOptions& opts) -> std::optional<GroupOutcome> {
+    if (stop->passed()) return std::nullopt;
+    const Variables vars = select_variables(assembly, /*physics=*/false, &steered);
+    AssemblySolver fitter(steered, vars, rest.x, Objective::kTarget, opts.deadline);
+    const StepResult pulled = fitter.fit(rest.x, opts.max_iterations);
+    if (!pulled.closed || stop->passed()) return std::nullopt;
+    const std::vector<double> settled_there = settle_candidate(steered, pulled.x, opts);
+    GroupOutcome there = relax_and_judge(group_problem(target_group), settled_there, opts);
+    if (!holds(there) || target_error(there) >= target_error(rest) - kEquallyNear) {
+      return std::nullopt;
+    }
+    return there;
+  };
   // The groups share nothing they change (each writes its own outcome; the target's group
   // alone writes the candidates' bookkeeping), so they relax at once, the target's first.
   std::vector<int> order;
@@ -775,7 +799,12 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       if (!holds(steered_outcome) && steered_outcome.overlap <= kPenetrationToleranceMm &&
           steered_outcome.movable && !stop->passed()) {
         GroupOutcome free = relax_free_group(g, per_group);
-        if (holds(free)) steered_outcome = std::move(free);
+        if (holds(free)) {
+          if (std::optional<GroupOutcome> nearer = pulled_to_target(free, per_group)) {
+            free = std::move(*nearer);
+          }
+          steered_outcome = std::move(free);
+        }
       }
     } else {
       outcomes[static_cast<std::size_t>(g)] = relax_free_group(g, per_group);
