@@ -994,7 +994,9 @@ std::string SolveResult::summary() const {
   s += fmt::format("  {:<28}{}\n", "termination", to_string(termination));
   s += fmt::format("  {:<28}{}\n",
                    "verdict",
-                   stable                                         ? "STABLE"
+                   stable ? "STABLE"
+                   : !feasible && max_penetration_mm > kPenetrationToleranceMm
+                       ? "PARTS PASS THROUGH EACH OTHER (infeasible as found)"
                    : !feasible                                    ? "INFEASIBLE"
                    : termination == Termination::kTimeout         ? "STOPPED AT THE TIME LIMIT"
                    : !slips.empty()                               ? "FALLS APART"
