@@ -500,6 +500,14 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     problem.contacts_first = std::make_shared<bool>(false);
     return problem;
   };
+  // How far an outcome leaves the target from its goal, as the candidates are ranked: the
+  // position, the tilt, and the twist unless it is free.
+  auto target_error = [&](const GroupOutcome& o) {
+    const PoseError e = pose_error(
+        *whole.target,
+        Rigid<double>::from_matrix(assembly.part_frames(o.x)[whole.target->part.index()]));
+    return e.position_mm + e.tilt_deg + (e.twist_free ? 0.0 : std::abs(e.twist_deg));
+  };
   auto relax_target_group = [&](const SolveOptions& opts) {
     const int g = target_group;
     const Problem problem = group_problem(g);
@@ -517,11 +525,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
       return false;
     };
     auto consider = [&](std::size_t c, GroupOutcome o) {
-      const PoseError e = pose_error(
-          *whole.target,
-          Rigid<double>::from_matrix(assembly.part_frames(o.x)[whole.target->part.index()]));
-      const double error =
-          e.position_mm + e.tilt_deg + (e.twist_free ? 0.0 : std::abs(e.twist_deg));
+      const double error = target_error(o);
       // What holds first; then what passes through nothing; then the nearest the target.
       const bool apart = o.overlap <= kPenetrationToleranceMm;
       const bool best_apart = best && best->overlap <= kPenetrationToleranceMm;
@@ -756,12 +760,6 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
   // search happened to put it; where it can slide at no cost (hooks along a rail), the target
   // is pulled from there towards its goal (step 1's fit from the rest), settled and relaxed
   // again: kept if it holds and rests nearer the goal.
-  auto target_error = [&](const GroupOutcome& o) {
-    const PoseError e = pose_error(
-        *whole.target,
-        Rigid<double>::from_matrix(assembly.part_frames(o.x)[whole.target->part.index()]));
-    return e.position_mm + e.tilt_deg + (e.twist_free ? 0.0 : std::abs(e.twist_deg));
-  };
   auto pulled_to_target = [&](const GroupOutcome& rest,
                               const SolveOptions& opts) -> std::optional<GroupOutcome> {
     if (stop->passed()) return std::nullopt;
@@ -992,16 +990,16 @@ std::string SolveResult::summary() const {
   std::string s;
   s += "FabHaL solve report\n";
   s += fmt::format("  {:<28}{}\n", "termination", to_string(termination));
-  s += fmt::format("  {:<28}{}\n",
-                   "verdict",
-                   stable ? "STABLE"
-                   : !feasible && max_penetration_mm > kPenetrationToleranceMm
-                       ? "PARTS PASS THROUGH EACH OTHER (infeasible as found)"
-                   : !feasible                                    ? "INFEASIBLE"
-                   : termination == Termination::kTimeout         ? "STOPPED AT THE TIME LIMIT"
-                   : !slips.empty()                               ? "FALLS APART"
-                   : max_penetration_mm > kPenetrationToleranceMm ? "PARTS PASS THROUGH EACH OTHER"
-                                                                  : "DID NOT CONVERGE");
+  s += fmt::format(
+      "  {:<28}{}\n",
+      "verdict",
+      stable ? "STABLE"
+      : termination != Termination::kTimeout && max_penetration_mm > kPenetrationToleranceMm
+          ? "PARTS PASS THROUGH EACH OTHER (infeasible as found)"
+      : !feasible                            ? "INFEASIBLE"
+      : termination == Termination::kTimeout ? "STOPPED AT THE TIME LIMIT"
+      : !slips.empty()                       ? "FALLS APART"
+                                             : "DID NOT CONVERGE");
   s += fmt::format("  {:<28}{:.3f} mm, {:.3f}°  ({} start{})\n",
                    "target error after step 1",
                    target_step1.position_mm,
