@@ -317,6 +317,62 @@ TEST(ManifoldSolver, RelaxEndsWhereItsProgressWindowGainsTooLittle) {
   EXPECT_EQ(patient.relax(start, 500).iterations, to_rest.iterations);
 }
 
+// Residuals r = (10·(y − x²), 1 − x, 3 + x² + y²): a curved valley (Rosenbrock's) in which
+// the third residual stays near 3, its curvature missing from the Gauss-Newton model: from
+// (−1.5, 2) Levenberg-Marquardt crawls (ten iterations lower ½‖r‖², about 4.9, by under 1 %)
+// short of the minimum (its slope still about 10⁻⁶), and the fit is finished by Newton's method on
+// ½‖r‖² — unless ½‖r‖² is below the threshold set for that.
+class LargeResiduals : public ManifoldProblem {
+ public:
+  int variables() const override { return 2; }
+  int objectives() const override { return 3; }
+  int equalities() const override { return 0; }
+  int inequalities() const override { return 0; }
+  void evaluate(const double* z, double* values, double* jacobian) override {
+    const double x = z[0], y = z[1];
+    values[0] = 10 * (y - x * x);
+    values[1] = 1 - x;
+    values[2] = 3 + x * x + y * y;
+    jacobian[0] = -20 * x;
+    jacobian[1] = 10;
+    jacobian[2] = -1;
+    jacobian[3] = 0;
+    jacobian[4] = 2 * x;
+    jacobian[5] = 2 * y;
+  }
+  // The slope of ½‖r‖² at z.
+  Eigen::Vector2d slope(const Eigen::VectorXd& z) {
+    double v[3], j[6];
+    evaluate(z.data(), v, j);
+    const Eigen::Map<const Eigen::Matrix<double, 3, 2, Eigen::RowMajor>> jac(j);
+    return jac.transpose() * Eigen::Map<const Eigen::Vector3d>(v);
+  }
+};
+
+TEST(ManifoldSolver, AFitCrawlingBelowItsFinishThresholdIsNotFinished) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const Eigen::VectorXd lo = Eigen::VectorXd::Constant(2, -inf);
+  const Eigen::VectorXd hi = Eigen::VectorXd::Constant(2, inf);
+  const Eigen::VectorXd start = Eigen::Vector2d(-1.5, 2.0);
+  LargeResiduals problem;
+  auto fit_with = [&](double finish_above) {
+    ManifoldSolverOptions o;
+    o.finish_above = finish_above;
+    ManifoldSolver solver(problem, lo, hi, o);
+    return solver.fit(start, 500);
+  };
+  const ManifoldSolver::Result finished = fit_with(0);
+  EXPECT_LT(problem.slope(finished.z).norm(), 1e-8);
+  // Above ½‖r‖² where it crawls, the fit ends there: short of the minimum, and sooner.
+  const ManifoldSolver::Result crawled = fit_with(5.5);
+  EXPECT_GT(problem.slope(crawled.z).norm(), 1e-7);
+  EXPECT_LT(crawled.iterations, finished.iterations);
+  // Below it, the finish runs as without a threshold.
+  const ManifoldSolver::Result below = fit_with(4.5);
+  EXPECT_EQ(below.iterations, finished.iterations);
+  EXPECT_EQ(below.z, finished.z);
+}
+
 // h = (1 + z², (z − 3)/100) = 0 has no solution: ‖h‖² has its least positive value near
 // z = 0, which Levenberg-Marquardt approaches step by step, each lowering ‖h‖² a little.
 class UnclosableGap : public ManifoldProblem {

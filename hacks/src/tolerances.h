@@ -57,6 +57,10 @@ inline constexpr double kHalfTurnCheckDeg = 1e-3;
 
 /// A target reached within this (mm and degrees) cannot be improved by more starts.
 inline constexpr double kTargetReached = 1e-4;
+/// Step 1's fits: a crawling fit whose ½‖r‖² is below this (the target within about 0.1 mm of
+/// its goal) is not finished by Newton's method (ManifoldSolverOptions::finish_above).
+inline constexpr double kFitCloseEnough = 0.5 * 0.1 * 0.1;
+inline constexpr double kTargetCloseEnough = 0.1;
 
 /// solve() refuses a starting configuration whose closures are open by more than this (mm):
 /// connect() verified it closed.

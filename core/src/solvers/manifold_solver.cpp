@@ -710,7 +710,7 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
   // Newton's method is held to the same rule: where it crawls too (steps clamped at bounds
   // failing, the trust region shrinking: clip light M's random starts ran 74-77 iterations into
   // their limit lowering f by 0.15 % per ten) the fit is as near as these methods get.
-  if (crawling && cur.f <= give_up && it < max_iterations) {
+  if (crawling && cur.f <= give_up && cur.f > options_.finish_above && it < max_iterations) {
     Result polished = newton(cur.z,
                              max_iterations - it,
                              /*small_curvatures=*/true,

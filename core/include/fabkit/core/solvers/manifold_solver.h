@@ -118,6 +118,10 @@ struct ManifoldSolverOptions {
   /// another, which goes on from wherever it ends.
   int progress_window = 0;
   double least_progress = 0;
+  /// fit() finishes a crawling Levenberg-Marquardt run with Newton's method only while f is
+  /// above this: below it the residuals are as small as the caller needs, and a Newton model
+  /// of a large problem costs far more than the little it would gain there. 0: always.
+  double finish_above = 0;
   /// Escapes from stationary points that are not minima, before giving up.
   int max_escapes = 20;
   /// From this many free coordinates, each gauge pair (ManifoldProblem::gauge_pairs) whose two
