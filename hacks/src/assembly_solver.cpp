@@ -15,7 +15,7 @@ solvers::ManifoldSolverOptions solver_options(
     o.progress_window = kSettleWindow;
     o.least_progress = kSettleProgressMm;
   }
-  // A fit within a tenth of a millimetre of its goal (½‖r‖² with r in mm) is not finished.
+  // A fit within about a tenth of a millimetre of its goal is not finished (tolerances.h).
   if (objective == Objective::kTarget) o.finish_above = kFitCloseEnough;
   o.feasibility_tolerance = kClosureTolerance;
   o.projection_tolerance = kProjectionTolerance;

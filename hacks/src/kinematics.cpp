@@ -567,6 +567,17 @@ void from_z(const Variables& v, const std::vector<double>& z, std::vector<double
   }
 }
 
+double group_energy(const Problem& p, const std::vector<double>& x) {
+  const std::vector<Mat4> frames = p.assembly->part_frames(x);
+  double energy = 0;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (p.masses[i] <= 0) continue;
+    energy += p.masses[i] *
+              (frames[i].topLeftCorner<3, 3>() * p.coms[i] + frames[i].topRightCorner<3, 1>()).z();
+  }
+  return energy;
+}
+
 double max_gap(const Assembly& a, const std::vector<double>& x, double* deg) {
   double mm = 0;
   double angle = 0;

@@ -84,6 +84,9 @@ std::vector<T> expand(const Variables& v, const std::vector<double>& base, const
 
 std::vector<double> to_z(const Variables& v, const std::vector<double>& x);
 void from_z(const Variables& v, const std::vector<double>& z, std::vector<double>& x);
+/// The potential at x of the parts p weighs (a group's, or the whole assembly's): Σ m·z of
+/// their centres of mass (mass units · mm).
+double group_energy(const Problem& p, const std::vector<double>& x);
 /// Largest closure gap at x (mm; degrees in *deg).
 double max_gap(const Assembly& a, const std::vector<double>& x, double* deg = nullptr);
 

@@ -48,19 +48,6 @@ constexpr int kSpreadFromClosings = 4;
 // again because nothing held (solve()).
 constexpr int kHarderStartClosings = 4;
 
-// The potential at x of the parts p weighs (a group's, or the whole assembly's): Σ m·z of
-// their centres of mass (mass units · mm).
-double group_energy(const Problem& p, const std::vector<double>& x) {
-  const std::vector<Mat4> frames = p.assembly->part_frames(x);
-  double energy = 0;
-  for (std::size_t i = 0; i < frames.size(); ++i) {
-    if (p.masses[i] <= 0) continue;
-    energy += p.masses[i] *
-              (frames[i].topLeftCorner<3, 3>() * p.coms[i] + frames[i].topRightCorner<3, 1>()).z();
-  }
-  return energy;
-}
-
 // Where parameter v puts its connector at `value` (the rest of x as given), in the frame of
 // the part the parameter belongs to: a point along that part's primitive.
 Vec3 connector_in_own_part(const Assembly& a, int v, std::vector<double> x, double value) {

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "fabkit/core/parallel.h"
+#include "hanging.h"
 #include "random.h"
 #include "steps.h"
 
@@ -105,12 +106,17 @@ namespace {
 constexpr int kGuidedBesideFrom = 48;
 
 // One start of step 1: where it begins (below) and the fit from there; nothing when its cycles
-// could not be closed there or the deadline has passed. `give_up` matters to the random starts
-// only (they stop early when far from beating it).
-std::optional<StepResult> fit_from_start(
-    const Problem& p, const Variables& vars, const SolveOptions& o, int start, double give_up) {
+// could not be closed there or the deadline has passed. The first three begin from `verified`,
+// the verified configuration (a long chain hung from the top: hanging.h). `give_up` matters to the
+// random starts only (they stop early when far from beating it).
+std::optional<StepResult> fit_from_start(const Problem& p,
+                                         const Variables& vars,
+                                         const std::vector<double>& verified,
+                                         const SolveOptions& o,
+                                         int start,
+                                         double give_up) {
   const Assembly& a = *p.assembly;
-  std::vector<double> x0 = a.values();
+  std::vector<double> x0 = start <= 2 ? verified : a.values();
   if (start <= 2) {
     for (int v : vars.index) {
       const ParamSpec& s = a.parameters()[static_cast<std::size_t>(v)].spec;
@@ -145,7 +151,7 @@ std::optional<StepResult> fit_from_start(
   // small steps, each a short fit from the last, as a hand would guide it there. It does not
   // depend on luck, and finds goals the direct fit and the random starts miss.
   if (start == 1) {
-    std::vector<double> x = a.values();
+    std::vector<double> x = verified;
     const Rigid<double> from =
         a.all_part_frames<double>(x.data())[p.target->part.index()].then(p.target->base);
     const Eigen::Quaterniond q0(from.R);
@@ -236,6 +242,16 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   // Otherwise the others run at once, the random ones giving up when far from the verified
   // start's fit. They join the candidates in the order of the starts, whatever order the
   // threads finished them in, and a start after one that reached the target is not taken.
+  // A long chain's verified configuration is the connects' zigzag, hundreds of millimetres
+  // from where it hangs (a 64-hook chain's fit from it took 500 iterations); hung from the top
+  // it starts where it rests.
+  std::vector<double> verified = a.values();
+  if (const Variables physical = select_variables(a, /*physics=*/true, &p);
+      static_cast<int>(physical.index.size()) >= kHangFrom) {
+    if (std::optional<std::vector<double>> hung = hung_from_the_top(p, physical, verified)) {
+      verified = std::move(*hung);
+    }
+  }
   const int starts = std::max(1, o.target_starts);
   std::vector<std::optional<StepResult>> fits(static_cast<std::size_t>(starts));
   // What the random starts depend on, the verified start's fit alone: the start after the last
@@ -278,30 +294,32 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
             cv.notify_all();
           }
         } publish{planning, planned_signal, planned};
-        fits[0] = fit_from_start(p, vars, o, 0, 0.0);
+        fits[0] = fit_from_start(p, vars, verified, o, 0, 0.0);
         take(0, fits[0]);
         if (reached()) guided_clock->call_off();
         std::tie(last, give_up) = random_plan();
       } else if (k == 1) {
-        fits[1] = fit_from_start(guided, vars, o, 1, 0.0);
+        fits[1] = fit_from_start(guided, vars, verified, o, 1, 0.0);
       }
       {
         std::unique_lock lock(planning);
         planned_signal.wait(lock, [&] { return planned; });
       }
       for (int start = next++; start < last; start = next++) {
-        fits[static_cast<std::size_t>(start)] = fit_from_start(p, vars, o, start, give_up);
+        fits[static_cast<std::size_t>(start)] =
+            fit_from_start(p, vars, verified, o, start, give_up);
       }
     });
   } else {
-    fits[0] = fit_from_start(p, vars, o, 0, 0.0);
+    fits[0] = fit_from_start(p, vars, verified, o, 0, 0.0);
     take(0, fits[0]);
     const int first = reached() ? 2 : 1;  // the first start after the verified one to fit
     int last = starts;
     double give_up = 0;
     std::tie(last, give_up) = random_plan();
     run_in_parallel(std::max(0, last - first), o.threads, [&](int k) {
-      fits[static_cast<std::size_t>(first + k)] = fit_from_start(p, vars, o, first + k, give_up);
+      fits[static_cast<std::size_t>(first + k)] =
+          fit_from_start(p, vars, verified, o, first + k, give_up);
     });
   }
   for (int start = 1; start < starts; ++start) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "cycle_closure.h"
+#include "hanging.h"
 #include "random.h"
 #include "steps.h"
 
@@ -281,7 +282,19 @@ StepResult run_step2(Problem& p,
     }
     return best;
   };
-  return avoiding_contacts(p, x1, run, o, unfold);
+  // A long chain hung link by link from the top is at rest, or nearly (a 64-hook chain's
+  // relaxation from the connects' zigzag took 24 Newton models of 197 motions, from there 2),
+  // unless hanging it put parts deeper into each other or into the environment than they were.
+  std::vector<double> start = x1;
+  if (static_cast<int>(vars.index.size()) >= kHangFrom) {
+    if (std::optional<std::vector<double>> hung = hung_from_the_top(p, vars, x1)) {
+      const double deepest = deepest_overlap(p, *hung).depth;
+      if (deepest <= kPenetrationToleranceMm || deepest <= deepest_overlap(p, x1).depth) {
+        start = std::move(*hung);
+      }
+    }
+  }
+  return avoiding_contacts(p, start, run, o, unfold);
 }
 
 StabilityReport check_stability(const Problem& p,

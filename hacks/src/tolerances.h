@@ -57,10 +57,11 @@ inline constexpr double kHalfTurnCheckDeg = 1e-3;
 
 /// A target reached within this (mm and degrees) cannot be improved by more starts.
 inline constexpr double kTargetReached = 1e-4;
-/// Step 1's fits: a crawling fit whose ½‖r‖² is below this (the target within about 0.1 mm of
-/// its goal) is not finished by Newton's method (ManifoldSolverOptions::finish_above).
+/// Step 1's fits: a crawling fit whose ½‖r‖² is below this (the target within about 0.1 mm and
+/// 0.1° of its goal: positions in mm, rotations in degrees) is not finished by Newton's method
+/// (ManifoldSolverOptions::finish_above). Where a goal cannot be reached exactly, a 64-hook
+/// chain's finish took 10 Newton models of 197 motions to bring it from 0.0741 to 0.0737 mm.
 inline constexpr double kFitCloseEnough = 0.5 * 0.1 * 0.1;
-inline constexpr double kTargetCloseEnough = 0.1;
 
 /// solve() refuses a starting configuration whose closures are open by more than this (mm):
 /// connect() verified it closed.

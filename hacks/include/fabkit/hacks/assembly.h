@@ -215,6 +215,12 @@ class Assembly {
   std::vector<Rigid<T>> all_part_frames(const T* x,
                                         const std::vector<char>& moving,
                                         const std::vector<Rigid<double>>& fixed) const;
+  /// World frame of connector `c` on a part at `part_frame`.
+  template <class T>
+  Rigid<T> connector_world(const Connector& c, const Rigid<T>& part_frame, const T* x) const;
+  /// World frame of the part below tree connection `up`, whose parent part is at `parent`.
+  template <class T>
+  Rigid<T> child_frame(ConnectionId up, const Rigid<T>& parent, const T* x) const;
   /// World frames of a connection's two connector frames, the first including the
   /// alignment offset; equal when the connection is closed.
   template <class T>
@@ -346,11 +352,6 @@ class Assembly {
                      PartId parent_part = {},
                      ConnectionId parent = {});
   Connector make_connector(PartId part, PrimitiveId primitive, std::vector<ParamSpec> params);
-  template <class T>
-  Rigid<T> connector_world(const Connector& c, const Rigid<T>& part_frame, const T* x) const;
-  /// World frame of the part below tree connection `up`, whose parent part is at `parent`.
-  template <class T>
-  Rigid<T> child_frame(ConnectionId up, const Rigid<T>& parent, const T* x) const;
 
   std::vector<PartNode> parts_;
   KinematicGraph graph_;
