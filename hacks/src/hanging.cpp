@@ -218,6 +218,7 @@ std::optional<std::vector<double>> hung_from_the_top(const Problem& p,
                       info.spec.lo,
                       info.spec.hi));
     }
+    const Eigen::VectorXd own = z;
     if (kinds == last_kinds) {
       double here = 0, there = 0;
       part.evaluate_values(z.data(), &here);
@@ -228,11 +229,32 @@ std::optional<std::vector<double>> hung_from_the_top(const Problem& p,
     options.gradient_tolerance = 1e-6;
     options.max_step = 180;
     options.stop = p.stop;
-    solvers::ManifoldSolver solver(part, l, h, options);
-    const solvers::ManifoldSolver::Result r = solver.relax(z, 30);
-    part.write(r.z, out);
+    Eigen::VectorXd rest = solvers::ManifoldSolver(part, l, h, options).relax(z, 30).z;
+    // A turn that costs nothing once the part hangs (about the vertical through its contact)
+    // still slopes on the way there, and the descent can run it into a stop: every S-hook of
+    // a 64-hook chain ended with its hooks' tilts at 45°. Such a parameter is put back where
+    // the part's own start had it and held there, the others solved again, and that rest is
+    // taken if it is as low: the free turns stay where the connects put them, as step 2 leaves
+    // neutral directions, and the relaxation's projections do not clip them at their stops.
+    {
+      std::vector<Eigen::Index> stopped;
+      for (Eigen::Index k = 0; k < rest.size(); ++k) {
+        const bool at_stop = rest[k] <= l[k] + 1e-9 || rest[k] >= h[k] - 1e-9;
+        if (at_stop && own[k] > l[k] + 1e-9 && own[k] < h[k] - 1e-9) stopped.push_back(k);
+      }
+      if (!stopped.empty()) {
+        Eigen::VectorXd held = rest, hl = l, hh = h;
+        for (Eigen::Index k : stopped) held[k] = hl[k] = hh[k] = own[k];
+        held = solvers::ManifoldSolver(part, hl, hh, options).relax(held, 30).z;
+        double before = 0, after = 0;
+        part.evaluate_values(rest.data(), &before);
+        part.evaluate_values(held.data(), &after);
+        if (after <= before + 1e-9 * std::max(1.0, std::abs(before))) rest = held;
+      }
+    }
+    part.write(rest, out);
     last_kinds = std::move(kinds);
-    last_z = r.z;
+    last_z = rest;
     frames[i] = a.child_frame<double>(up, frames[joint.first.part.index()], out.data());
   }
   // Lumping is exact only where what hangs below a joint swings freely: a start it made higher
