@@ -1042,6 +1042,82 @@ TEST(Physics, AChainOfHooksHangsPlumb) {
   }
 }
 
+// A 16-S-hook chain from a rod with a mug on the last hook, the mug the target (its goal, for
+// the mug's hook, is the mug's own frame where it rests alone moved 20 mm: a goal step 1 gets
+// within 72 mm of). Long enough to be hung link by link before its fits and relaxations
+// (hanging.h). The mirror image reflects the world in the plane x = 0 and turns
+// every interlock the other way (AMirroredChainRestsAsTheMirrorImageOfTheChain).
+std::string long_chain_with_mug(bool mirrored, const std::string& target) {
+  std::string s =
+      "fabkit: hacks/1\nname: long chain\nenvironment:\n"
+      "  - {name: bar, primitives: {rod: {type: rod, radius: 4, length: 300}}, "
+      "frame: {pos: [0, 0, 1500], rot: [90, 0, 0]}}\nparts:\n";
+  for (int i = 1; i <= 16; ++i) s += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
+  // The target is a part too: the mug is declared as one or the other.
+  s += (target.empty() ? std::string("  - {name: mug, part: Mug}\n") : target) + "connections:\n";
+  const std::string flip = mirrored ? ", alignment: flip" : "";
+  s += fmt::format("  - {{connect: [s1.hook1, bar.rod]{}}}\n", flip);
+  for (int i = 2; i <= 16; ++i) {
+    s += fmt::format("  - {{connect: [s{}.hook1, s{}.hook2]{}}}\n", i, i - 1, flip);
+  }
+  return s + fmt::format("  - {{connect: [mug.hook, s16.hook2]{}}}\n", flip);
+}
+
+// Hung link by link, a long chain with a target still rests the same wherever the world is,
+// moved and turned with it, and its mirror image rests as its mirror image (up to free turns
+// about the vertical): the pass depends on the parts and gravity, not on where the design
+// stands or which way its hooks face.
+TEST(Physics, ALongChainWithATargetRestsTheSameMovedOrMirrored) {
+  const Design alone = load_text(long_chain_with_mug(false, ""));
+  ASSERT_TRUE(alone.feasible()) << alone.diagnostics.format();
+  const SolveResult rest = solve(alone.assembly);
+  ASSERT_TRUE(rest.stable) << rest.summary();
+  Frame goal;
+  for (const SolvedPart& q : rest.parts) {
+    if (q.name == "mug") goal = q.frame;
+  }
+  goal.pos.x() += 20;
+  auto target = [&](const Frame& f) {
+    return fmt::format(
+        "target: {{name: mug, part: Mug, primitive: hook, frame: {{pos: [{:.9f}, {:.9f}, "
+        "{:.9f}], rot: [{:.9f}, {:.9f}, {:.9f}]}}}}\n",
+        f.pos.x(),
+        f.pos.y(),
+        f.pos.z(),
+        f.rot.x(),
+        f.rot.y(),
+        f.rot.z());
+  };
+  const std::string yaml = long_chain_with_mug(false, target(goal));
+  const Outcome a = solve_text(yaml);
+  EXPECT_TRUE(a.stable) << a.summary;
+  const Frame world(Vec3(-812.25, 1404.5, 233.0), Vec3(0, 0, 131.0));
+  const Outcome b = solve_text(moved(yaml, world));
+  EXPECT_EQ(a.stable, b.stable) << b.summary;
+  for (const auto& [part, at] : a.by_name) {
+    EXPECT_LT((b.by_name.at(part) - world.apply(at)).norm(), 1e-6) << part;
+  }
+  // The mirror image, its goal taken the same way from where its own mug rests alone (20 mm
+  // the other way): it rests as the mirror image.
+  const Design mirror_alone = load_text(long_chain_with_mug(true, ""));
+  ASSERT_TRUE(mirror_alone.feasible()) << mirror_alone.diagnostics.format();
+  Frame mirrored_goal;
+  for (const SolvedPart& q : solve(mirror_alone.assembly).parts) {
+    if (q.name == "mug") mirrored_goal = q.frame;
+  }
+  EXPECT_NEAR(mirrored_goal.pos.x(), -(goal.pos.x() - 20), 0.01);
+  mirrored_goal.pos.x() -= 20;
+  const Outcome m = solve_text(long_chain_with_mug(true, target(mirrored_goal)));
+  // Up to the turns about the vertical that cost nothing (each hook's and the mug's: a chain
+  // turns freely where it hangs), which keep every height.
+  EXPECT_EQ(a.stable, m.stable) << m.summary;
+  EXPECT_NEAR(a.target_mm, m.target_mm, 0.01) << a.summary << m.summary;
+  EXPECT_NEAR(a.energy, m.energy, 1e-6 * a.mass) << a.summary << m.summary;
+  for (const auto& [part, at] : a.by_name) {
+    EXPECT_NEAR(m.by_name.at(part).z(), at.z(), 0.01) << part << m.summary;
+  }
+}
+
 // A chain long enough to span two wall hooks is found to span them, and hangs from both with
 // its lowest link near the middle: 16 and 18 S-hooks (reaching about 680 and 760 mm) between
 // hooks 605.5 mm apart, where the closure search used to leave a gap of hundreds of mm
