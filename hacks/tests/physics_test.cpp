@@ -77,6 +77,17 @@ std::string moved(const std::string& yaml, const Frame& world) {
   return emit(root);
 }
 
+// A frame as a YAML flow mapping, every number as it prints back exactly.
+std::string flow_frame(const Frame& f) {
+  return fmt::format("{{pos: [{}, {}, {}], rot: [{}, {}, {}]}}",
+                     f.pos.x(),
+                     f.pos.y(),
+                     f.pos.z(),
+                     f.rot.x(),
+                     f.rot.y(),
+                     f.rot.z());
+}
+
 struct Outcome {
   bool stable = false;
   double energy = 0;     // Σ m·z (mass units · mm)
@@ -1078,15 +1089,7 @@ TEST(Physics, ALongChainWithATargetRestsTheSameMovedOrMirrored) {
   }
   goal.pos.x() += 20;
   auto target = [&](const Frame& f) {
-    return fmt::format(
-        "target: {{name: mug, part: Mug, primitive: hook, frame: {{pos: [{:.9f}, {:.9f}, "
-        "{:.9f}], rot: [{:.9f}, {:.9f}, {:.9f}]}}}}\n",
-        f.pos.x(),
-        f.pos.y(),
-        f.pos.z(),
-        f.rot.x(),
-        f.rot.y(),
-        f.rot.z());
+    return "target: {name: mug, part: Mug, primitive: hook, frame: " + flow_frame(f) + "}\n";
   };
   const std::string yaml = long_chain_with_mug(false, target(goal));
   const Outcome a = solve_text(yaml);
@@ -1607,14 +1610,8 @@ TEST(Physics, ABarThroughTwoHooksAsTheTargetRestsLevel) {
                  "");
     text.replace(text.find("connections:"),
                  std::string("connections:").size(),
-                 fmt::format("target: {{name: bar, part: ShowerCurtainRod, primitive: rod, frame: "
-                             "{{pos: [{}, {}, {}], rot: [{}, {}, {}]}}}}\nconnections:",
-                             goal.pos.x(),
-                             goal.pos.y(),
-                             goal.pos.z(),
-                             goal.rot.x(),
-                             goal.rot.y(),
-                             goal.rot.z()));
+                 "target: {name: bar, part: ShowerCurtainRod, primitive: rod, frame: " +
+                     flow_frame(goal) + "}\nconnections:");
     for (const std::uint64_t seed : {1, 2}) {
       if (along < 0 && seed > 1) continue;  // one seed is enough the other way
       SCOPED_TRACE(fmt::format("goal {} mm along the rail, seed {}", along, seed));
