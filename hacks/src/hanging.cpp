@@ -24,7 +24,7 @@ struct Load {
 };
 
 // One part on the joint it hangs by, under its own weight and the loads hanging from it: the
-// potential (mass-weighted height, mm·g) of the part's centre of mass and of each load's
+// mean height (mm, weighted by mass) of the part's centre of mass and of each load's
 // connector, in the parameters of the joint above and of the part's sides of the joints below.
 class PartUnderLoads : public solvers::ManifoldProblem {
  public:
@@ -46,7 +46,7 @@ class PartUnderLoads : public solvers::ManifoldProblem {
         parameters_(std::move(parameters)),
         scales_(std::move(scales)),
         x_(x.begin(), x.end()) {
-    // Heights in mm (the mass-weighted mean): tolerances mean the same for every part.
+    // A mean, not a sum: the tolerances mean the same for a light part and a loaded one.
     double total = mass_;
     for (const Load& load : loads_) total += load.mass;
     scale_ = total > 0 ? 1.0 / total : 1.0;
