@@ -244,12 +244,12 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   // threads finished them in, and a start after one that reached the target is not taken.
   // A long chain's verified configuration is the connects' zigzag, hundreds of millimetres
   // from where it hangs (a 64-hook chain's fit from it took 500 iterations); hung from the top
-  // it starts where it rests.
+  // it starts where it rests — where that leaves no parts inside each other (run_step2).
   std::vector<double> verified = a.values();
   if (const Variables physical = select_variables(a, /*physics=*/true, &p);
       static_cast<int>(physical.index.size()) >= kHangFrom) {
     if (std::optional<std::vector<double>> hung = hung_from_the_top(p, physical, verified)) {
-      verified = std::move(*hung);
+      if (deepest_overlap(p, *hung).depth <= kPenetrationToleranceMm) verified = std::move(*hung);
     }
   }
   const int starts = std::max(1, o.target_starts);
