@@ -147,6 +147,19 @@ BENCHMARK(chain_with_target)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(0.2);
 
+// The same chain with no target: verification, then step 2 alone (from 12 hooks the chain is
+// hung link by link before it relaxes: docs/hacks.md).
+void chain_alone(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  time_solve(state, hook_chain(n, std::nullopt), "chain");
+  state.counters["parts"] = n + 2;
+}
+BENCHMARK(chain_alone)
+    ->RangeMultiplier(2)
+    ->Range(2, 128)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(0.2);
+
 // `cycles` chains of 3 S-hooks, each between its own two rods 80 mm apart: independent cycles.
 void independent_cycles(benchmark::State& state) {
   const int cycles = static_cast<int>(state.range(0));
