@@ -236,12 +236,6 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
       best.hit_iteration_limit = !r.converged;
     }
   };
-  // The starts are independent fits. The verified start comes first: when it reaches the
-  // target nothing can come nearer, and only the half-turn start is still worth its fit (it
-  // may reach the target too in a configuration that holds where the first does not).
-  // Otherwise the others run at once, the random ones giving up when far from the verified
-  // start's fit. They join the candidates in the order of the starts, whatever order the
-  // threads finished them in, and a start after one that reached the target is not taken.
   // A long chain's verified configuration is the connects' zigzag, hundreds of millimetres
   // from where it hangs (a 64-hook chain's fit from it took 500 iterations); hung from the top
   // it starts where it rests — where that leaves no parts inside each other (run_step2).
@@ -252,6 +246,12 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
       if (deepest_overlap(p, *hung).depth <= kPenetrationToleranceMm) verified = std::move(*hung);
     }
   }
+  // The starts are independent fits. The verified start comes first: when it reaches the
+  // target nothing can come nearer, and only the half-turn start is still worth its fit (it
+  // may reach the target too in a configuration that holds where the first does not).
+  // Otherwise the others run at once, the random ones giving up when far from the verified
+  // start's fit. They join the candidates in the order of the starts, whatever order the
+  // threads finished them in, and a start after one that reached the target is not taken.
   const int starts = std::max(1, o.target_starts);
   std::vector<std::optional<StepResult>> fits(static_cast<std::size_t>(starts));
   // What the random starts depend on, the verified start's fit alone: the start after the last
