@@ -3,6 +3,7 @@
 #include <ceres/jet.h>
 #include <fmt/format.h>
 
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -258,8 +259,9 @@ std::optional<std::vector<double>> hung_from_the_top(const Problem& p,
     frames[i] = a.child_frame<double>(up, frames[joint.first.part.index()], out.data());
   }
   // Lumping is exact only where what hangs below a joint swings freely: a start it made higher
-  // than the one it was given is not taken.
-  if (group_energy(p, out) > group_energy(p, x)) return std::nullopt;
+  // than the one it was given is not taken (nor one a degenerate part's solve left undefined).
+  const double hung = group_energy(p, out);
+  if (!std::isfinite(hung) || hung > group_energy(p, x)) return std::nullopt;
   return out;
 }
 
