@@ -373,6 +373,72 @@ TEST(ManifoldSolver, AFitCrawlingBelowItsFinishThresholdIsNotFinished) {
   EXPECT_EQ(below.z, finished.z);
 }
 
+// The end of a planar chain of n unit links, each turned by z_k from the one before (radians):
+// residuals end − goal. Near full stretch the goal is reachable but the chain's Jacobian nearly
+// loses a rank, and Levenberg-Marquardt closes in on it slowly.
+class PlanarReach : public ManifoldProblem {
+ public:
+  PlanarReach(int n, Eigen::Vector2d goal) : n_(n), goal_(std::move(goal)) {}
+  int variables() const override { return n_; }
+  int objectives() const override { return 2; }
+  int equalities() const override { return 0; }
+  int inequalities() const override { return 0; }
+  void evaluate(const double* z, double* values, double* jacobian) override {
+    std::vector<double> heading(static_cast<std::size_t>(n_));
+    double a = 0;
+    for (int k = 0; k < n_; ++k) heading[static_cast<std::size_t>(k)] = a += z[k];
+    Eigen::Vector2d end = Eigen::Vector2d::Zero();
+    for (double h : heading) end += Eigen::Vector2d(std::cos(h), std::sin(h));
+    values[0] = end.x() - goal_.x();
+    values[1] = end.y() - goal_.y();
+    // Turning joint k swings every link from k on about the joint's point.
+    for (int k = 0; k < n_; ++k) {
+      Eigen::Vector2d tail = Eigen::Vector2d::Zero();
+      for (int j = k; j < n_; ++j) {
+        const double h = heading[static_cast<std::size_t>(j)];
+        tail += Eigen::Vector2d(std::cos(h), std::sin(h));
+      }
+      jacobian[k] = -tail.y();
+      jacobian[n_ + k] = tail.x();
+    }
+  }
+
+ private:
+  int n_;
+  Eigen::Vector2d goal_;
+};
+
+// Reaching straight out, the goal is the chain fully stretched, where its Jacobian loses a rank:
+// Levenberg-Marquardt converges there only linearly (about 400 iterations). A fit within its
+// caller's threshold that no longer halves ½‖r‖² in ten iterations stops where it is.
+TEST(ManifoldSolver, AFitConvergingSlowlyWithinItsThresholdStops) {
+  const double inf = std::numeric_limits<double>::infinity();
+  constexpr int kLinks = 30;
+  PlanarReach problem(kLinks, Eigen::Vector2d(kLinks, 0.0));
+  auto fit_with = [&](double finish_above) {
+    ManifoldSolverOptions o;
+    o.finish_above = finish_above;
+    ManifoldSolver solver(problem,
+                          Eigen::VectorXd::Constant(kLinks, -inf),
+                          Eigen::VectorXd::Constant(kLinks, inf),
+                          o);
+    return solver.fit(Eigen::VectorXd::Constant(kLinks, 0.2), 500);
+  };
+  auto half_squared = [&](const ManifoldSolver::Result& r) {
+    double v[2];
+    std::vector<double> jacobian(2 * kLinks);
+    problem.evaluate(r.z.data(), v, jacobian.data());
+    return 0.5 * (v[0] * v[0] + v[1] * v[1]);
+  };
+  const ManifoldSolver::Result full = fit_with(0);
+  EXPECT_LT(half_squared(full), 1e-8);
+  const ManifoldSolver::Result near = fit_with(1e-2);
+  EXPECT_TRUE(near.converged);
+  EXPECT_LT(near.iterations, full.iterations / 2);
+  EXPECT_LE(half_squared(near), 1e-2);
+  EXPECT_GT(half_squared(near), 1e-6);
+}
+
 // h = (1 + z², (z − 3)/100) = 0 has no solution: ‖h‖² has its least positive value near
 // z = 0, which Levenberg-Marquardt approaches step by step, each lowering ‖h‖² a little.
 class UnclosableGap : public ManifoldProblem {
