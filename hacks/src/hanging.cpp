@@ -154,7 +154,6 @@ std::optional<std::vector<double>> hung_from_the_top(const Problem& p,
   for (std::size_t i = 0; i < parts; ++i) {
     const ConnectionId up = g.parent_edge(PartId{static_cast<int>(i)});
     if (!up.valid() || !moves(i)) continue;
-    if (a.connection(up).closes_cycle) return std::nullopt;
     down[a.connection(up).first.part.index()].push_back(up);
     for (PartId q : g.below(up)) below[up.index()] += p.masses[q.index()];
   }

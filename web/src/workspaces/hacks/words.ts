@@ -33,12 +33,14 @@ export function terminationText(t: string): string {
   } as Record<string, string>)[t] ?? t.toLowerCase().replace(/_/g, ' ');
 }
 
-/** The solve's verdict in one or two words: what holds, what slips off, what passes through
- *  something (no real parts rest like that), and what is not yet a rest state. */
-export function verdictText(r: { stable: boolean; slipping: string[]; checks?: { max_penetration_mm: number } }): string {
+/** The solve's verdict in one or two words, in the order `fabkit solve`'s report decides it:
+ *  what holds, what passes through something (no real parts rest like that, whatever else is
+ *  wrong; not said of a solve stopped at its time limit), what slips off, and what is not yet a
+ *  rest state. */
+export function verdictText(r: { stable: boolean; termination: string; slipping: string[]; checks?: { max_penetration_mm: number } }): string {
   if (r.stable) return 'STABLE';
+  if (r.termination !== 'TIMEOUT' && (r.checks?.max_penetration_mm ?? 0) > 0.5) return 'PARTS PASS THROUGH';
   if (r.slipping.length) return 'FALLS APART';
-  if ((r.checks?.max_penetration_mm ?? 0) > 0.5) return 'PARTS PASS THROUGH';
   return 'NOT AT REST';
 }
 
