@@ -65,6 +65,7 @@ std::string result_json(const Assembly& assembly,
   j["design"] = std::string(design_name);
   j["stable"] = r.stable;
   j["feasible"] = r.feasible;
+  j["verdict"] = std::string(to_string(r.verdict()));
   j["termination"] = std::string(to_string(r.termination));
   j["message"] = r.message;
   ordered_json target = pose_error_json(r.target);

@@ -973,20 +973,57 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
 
 }  // namespace
 
+Verdict SolveResult::verdict() const {
+  if (stable) return Verdict::kStable;
+  if (termination != Termination::kTimeout && max_penetration_mm > kPenetrationToleranceMm) {
+    return Verdict::kPartsPassThrough;
+  }
+  if (!feasible) return Verdict::kInfeasible;
+  if (termination == Termination::kTimeout) return Verdict::kStopped;
+  if (!slips.empty()) return Verdict::kFallsApart;
+  return Verdict::kNotAtRest;
+}
+
+std::string_view to_string(Verdict v) {
+  switch (v) {
+    case Verdict::kStable:
+      return "STABLE";
+    case Verdict::kPartsPassThrough:
+      return "PARTS_PASS_THROUGH";
+    case Verdict::kInfeasible:
+      return "INFEASIBLE";
+    case Verdict::kStopped:
+      return "STOPPED";
+    case Verdict::kFallsApart:
+      return "FALLS_APART";
+    case Verdict::kNotAtRest:
+      break;
+  }
+  return "NOT_AT_REST";
+}
+
 std::string SolveResult::summary() const {
   std::string s;
   s += "FabHaL solve report\n";
   s += fmt::format("  {:<28}{}\n", "termination", to_string(termination));
-  s += fmt::format(
-      "  {:<28}{}\n",
-      "verdict",
-      stable ? "STABLE"
-      : termination != Termination::kTimeout && max_penetration_mm > kPenetrationToleranceMm
-          ? "PARTS PASS THROUGH EACH OTHER (infeasible as found)"
-      : !feasible                            ? "INFEASIBLE"
-      : termination == Termination::kTimeout ? "STOPPED AT THE TIME LIMIT"
-      : !slips.empty()                       ? "FALLS APART"
-                                             : "DID NOT CONVERGE");
+  const std::string_view words = [&] {
+    switch (verdict()) {
+      case Verdict::kStable:
+        return "STABLE";
+      case Verdict::kPartsPassThrough:
+        return "PARTS PASS THROUGH EACH OTHER (infeasible as found)";
+      case Verdict::kInfeasible:
+        return "INFEASIBLE";
+      case Verdict::kStopped:
+        return "STOPPED AT THE TIME LIMIT";
+      case Verdict::kFallsApart:
+        return "FALLS APART";
+      case Verdict::kNotAtRest:
+        break;
+    }
+    return "DID NOT CONVERGE";
+  }();
+  s += fmt::format("  {:<28}{}\n", "verdict", words);
   s += fmt::format("  {:<28}{:.3f} mm, {:.3f}°  ({} start{})\n",
                    "target error after step 1",
                    target_step1.position_mm,

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "../src/contacts.h"
 #include "../src/solve_internal.h"
 #include "fabkit/core/export_formats.h"
 #include "fabkit/core/mesh_io.h"
@@ -576,6 +577,68 @@ TEST(Solve, ResultJsonKeys) {
   EXPECT_TRUE(j.at("slipping").is_array());
   EXPECT_TRUE(j.at("timings_ms").contains("step1"));
   EXPECT_TRUE(j.at("timings_ms").contains("step2"));
+}
+
+// The verdict is decided once, in this order, for the report, result.json, Python and the
+// editor: a pose with parts inside each other is never called anything milder (however else
+// it fails), and a solve stopped at its time limit is not judged by its unfinished pose.
+TEST(Solve, TheVerdictIsDecidedInOneOrder) {
+  SolveResult r;
+  r.feasible = true;
+  r.termination = Termination::kNotConverged;
+  EXPECT_EQ(r.verdict(), Verdict::kNotAtRest);
+  r.slips.push_back({ConnectionId{0}, 0, "s2.hook1 slides off the open end of s1.hook2"});
+  EXPECT_EQ(r.verdict(), Verdict::kFallsApart);
+  r.max_penetration_mm =
+      detail::kPenetrationToleranceMm;  // at the tolerance: touching, not through
+  EXPECT_EQ(r.verdict(), Verdict::kFallsApart);
+  r.max_penetration_mm = detail::kPenetrationToleranceMm + 0.01;
+  EXPECT_EQ(r.verdict(), Verdict::kPartsPassThrough);
+  r.feasible = false;
+  EXPECT_EQ(r.verdict(), Verdict::kPartsPassThrough);
+  r.termination = Termination::kTimeout;
+  EXPECT_EQ(r.verdict(), Verdict::kInfeasible);
+  r.feasible = true;
+  EXPECT_EQ(r.verdict(), Verdict::kStopped);
+  r.max_penetration_mm = 0;
+  r.slips.clear();
+  r.termination = Termination::kInfeasible;
+  r.feasible = false;
+  EXPECT_EQ(r.verdict(), Verdict::kInfeasible);
+  r.feasible = true;
+  r.stable = true;
+  r.termination = Termination::kConverged;
+  EXPECT_EQ(r.verdict(), Verdict::kStable);
+}
+
+// Designs that hold, fall apart and pass through themselves get that verdict in the report's
+// verdict line and in result.json.
+TEST(Solve, ReportAndResultJsonGiveTheSameVerdict) {
+  struct Case {
+    std::string path;
+    Verdict verdict;
+    std::string line;  // the report's words
+  };
+  const std::string root = std::string(FABKIT_SOURCE_DIR) + "/examples/";
+  const Case cases[] = {
+      {root + "hacks/demo.yaml", Verdict::kStable, "STABLE"},
+      {root + "failing/hook_on_tilted_rod.yaml", Verdict::kFallsApart, "FALLS APART"},
+      {root + "hacks/diaper_caddy.yaml",
+       Verdict::kPartsPassThrough,
+       "PARTS PASS THROUGH EACH OTHER"},
+  };
+  for (const Case& c : cases) {
+    const Design d = load_design(c.path, PartsLibrary::builtin());
+    ASSERT_TRUE(d.feasible()) << c.path << d.diagnostics.format();
+    const SolveResult r = solve(d.assembly);
+    EXPECT_EQ(r.verdict(), c.verdict) << c.path << "\n" << r.summary();
+    EXPECT_NE(r.summary().find(fmt::format("verdict                     {}", c.line)),
+              std::string::npos)
+        << c.path << "\n"
+        << r.summary();
+    const nlohmann::json j = nlohmann::json::parse(result_json(d.assembly, r, d.name));
+    EXPECT_EQ(j.at("verdict").get<std::string>(), to_string(c.verdict)) << c.path;
+  }
 }
 
 // The exports open again and leave nothing half-written.

@@ -404,6 +404,7 @@ TEST(Deadline, AnywhereReportsOnlyTheTimeLimit) {
       if (r.termination == Termination::kTimeout) {
         only_time_limit(r.diagnostics, at + " (solve)");
         EXPECT_FALSE(r.stable) << at;
+        EXPECT_EQ(r.verdict(), Verdict::kStopped) << at;
         EXPECT_NE(r.summary().find("STOPPED AT THE TIME LIMIT"), std::string::npos) << at << "\n"
                                                                                     << r.summary();
       } else {

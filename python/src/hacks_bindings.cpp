@@ -398,6 +398,11 @@ void fabkit::python::bind_hacks(py::module_ m) {
   py::class_<Solved>(m, "SolveResult")
       .def_property_readonly("stable", [](const Solved& s) { return s.result.stable; })
       .def_property_readonly("feasible", [](const Solved& s) { return s.result.feasible; })
+      .def_property_readonly(
+          "verdict",
+          [](const Solved& s) { return std::string(to_string(s.result.verdict())); },
+          "The verdict in one word, as the report and result.json give it: STABLE, "
+          "PARTS_PASS_THROUGH, INFEASIBLE, STOPPED, FALLS_APART or NOT_AT_REST")
       .def_property_readonly("target_error",
                              [](const Solved& s) {
                                return py::make_tuple(s.result.target.position_mm,

@@ -113,8 +113,10 @@ def test_result_mirrors_result_json(tmp_path):
     assert r.slipping == []
     assert set(r.timings_ms) >= {"step1", "step2"}
     assert "STABLE" in r.summary()
+    assert r.verdict == "STABLE"
     r.save_json(tmp_path / "result.json")
     data = json.loads((tmp_path / "result.json").read_text())
+    assert data["verdict"] == "STABLE"
     assert data["stable"] is True and data["target"]["pos_error_mm"] == pytest.approx(pos, abs=1e-5)
     r.save_glb(tmp_path / "scene.glb")
     assert (tmp_path / "scene.glb").read_bytes()[:4] == b"glTF"
@@ -195,6 +197,7 @@ def test_falls_apart_reports_the_slipping_connection():
     assembly.end_with(mug.hook, Frame([0, 0, 400], [0, 0, 0]))
     r = assembly.solve()
     assert r.stable is False
+    assert r.verdict == "FALLS_APART"
     assert r.slipping and "slides off the open end of Environment.rod" in r.slipping[0]
     # Nothing turned the other way round holds a hook on a rod this steep.
     assert r.remedy == ""

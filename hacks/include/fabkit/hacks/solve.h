@@ -60,6 +60,21 @@ enum class Termination {
 };
 std::string_view to_string(Termination t);
 
+/// The verdict on a solve, decided here for every front end (the report, result.json, Python,
+/// the editor), in this order: it holds; parts pass through each other (no real parts rest like
+/// that, whatever else is wrong; not said of a solve stopped at its time limit); the
+/// constraints could not be satisfied; it stopped at its time limit; a connection slips off;
+/// or it is not a rest state.
+enum class Verdict {
+  kStable,            ///< at rest, nothing slips, nothing passes through anything
+  kPartsPassThrough,  ///< an overlap deeper than kPenetrationToleranceMm (infeasible as found)
+  kInfeasible,        ///< cycles left open
+  kStopped,           ///< stopped at the time limit: the result is incomplete
+  kFallsApart,        ///< a connection slips off under gravity
+  kNotAtRest,         ///< the potential still slopes or curves down where step 2 ended
+};
+std::string_view to_string(Verdict v);  ///< "STABLE", "PARTS_PASS_THROUGH", ...
+
 /// How far the target is from where end_with asked, split into what a user can act on.
 struct PoseError {
   double position_mm = 0;
@@ -150,6 +165,8 @@ struct SolveResult {
   std::vector<StageTiming> timings;
   Diagnostics diagnostics;
 
+  /// What the result says in one word (Verdict).
+  Verdict verdict() const;
   /// Ceres-style text summary.
   std::string summary() const;
 };

@@ -27,9 +27,12 @@ export interface CheckResult { valid: boolean; steps: CheckStep[]; parts: Placed
 export interface PoseError { pos_error_mm: number; rot_error_deg: number; tilt_deg: number; twist_deg: number; twist_free: boolean }
 export interface SolveResult {
   stable: boolean; feasible: boolean; termination: string; message: string;
+  /** The solve's verdict, decided by the solver for every front end (docs/result-format.md):
+   *  STABLE | PARTS_PASS_THROUGH | INFEASIBLE | STOPPED | FALLS_APART | NOT_AT_REST. */
+  verdict: string;
   target: PoseError & { step1?: PoseError; primitive?: string; goal?: Frame };
   parts: PlacedPart[]; slipping: string[];
-  /** The verdict's checks (docs/result-format.md); deeper than 0.5 mm: parts pass through each other. */
+  /** The verdict's checks (docs/result-format.md). */
   checks?: { max_penetration_mm: number; equilibrium_residual: number };
   /** For a design that falls apart: a change to it that holds, found by solving it (docs/result-format.md). */
   remedy?: string;

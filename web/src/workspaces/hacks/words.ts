@@ -33,15 +33,13 @@ export function terminationText(t: string): string {
   } as Record<string, string>)[t] ?? t.toLowerCase().replace(/_/g, ' ');
 }
 
-/** The solve's verdict in one or two words, in the order `fabkit solve`'s report decides it:
- *  what holds, what passes through something (no real parts rest like that, whatever else is
- *  wrong; not said of a solve stopped at its time limit), what slips off, and what is not yet a
- *  rest state. */
-export function verdictText(r: { stable: boolean; termination: string; slipping: string[]; checks?: { max_penetration_mm: number } }): string {
-  if (r.stable) return 'STABLE';
-  if (r.termination !== 'TIMEOUT' && (r.checks?.max_penetration_mm ?? 0) > 0.5) return 'PARTS PASS THROUGH';
-  if (r.slipping.length) return 'FALLS APART';
-  return 'NOT AT REST';
+/** The solve's verdict in one or two words. The solver decides it (result.json's `verdict`,
+ *  the line `fabkit solve` reports), so the editor never judges a result differently. */
+export function verdictText(r: { verdict: string }): string {
+  return ({
+    STABLE: 'STABLE', PARTS_PASS_THROUGH: 'PARTS PASS THROUGH', INFEASIBLE: 'INFEASIBLE',
+    STOPPED: 'STOPPED AT THE TIME LIMIT', FALLS_APART: 'FALLS APART', NOT_AT_REST: 'NOT AT REST',
+  } as Record<string, string>)[r.verdict] ?? r.verdict.toLowerCase().replace(/_/g, ' ');
 }
 
 /** "arc angle 270°, arc radius 11.6 mm, wire radius 2 mm": a primitive's sizes with units. */
