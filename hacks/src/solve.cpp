@@ -14,6 +14,7 @@
 
 #include "fabkit/core/parallel.h"
 #include "fabkit/hacks/diagnostic_codes.h"
+#include "solve_internal.h"
 #include "steps.h"
 
 namespace fabkit::hacks {
@@ -179,22 +180,42 @@ PoseError target_error(const Assembly& assembly, const std::vector<double>& x) {
   return pose_error(*t, Rigid<double>::from_matrix(frames[t->part.index()]));
 }
 
+bool detail::vertical_in_span(const Eigen::Matrix3Xd& turns) {
+  if (turns.cols() == 0) return false;
+  const Eigen::JacobiSVD<Eigen::Matrix3Xd> svd(turns, Eigen::ComputeThinU);
+  double share = 0;  // the vertical's squared length in the span
+  for (Eigen::Index j = 0; j < svd.singularValues().size(); ++j) {
+    if (svd.singularValues()[j] > 1e-5) share += std::pow(svd.matrixU()(2, j), 2);
+  }
+  return std::sqrt(share) > 0.99;
+}
+
 namespace {
 
-// Whether moving along `motion` (a neutral direction, full parameter vector) turns the target
-// about the vertical: then its twist is free.
-bool turns_target_about_vertical(const Assembly& a,
-                                 const TargetModel& t,
-                                 const std::vector<double>& x,
-                                 const std::vector<double>& motion) {
+// Whether some motion along the neutral directions (`motions`, full parameter vectors) turns
+// the target about the vertical: then its twist is free. Asked of the span of the motions, not
+// of each: where several curvatures are neutral their eigenvectors are any basis of that
+// space, which the eigensolver's round-off picks: two free turns, one about the vertical and
+// one about a level axis, may come out as their sum and difference, neither of which turns
+// about the vertical alone.
+bool target_twists_freely(const Assembly& a,
+                          const TargetModel& t,
+                          const std::vector<double>& x,
+                          const std::vector<std::vector<double>>& motions) {
+  if (motions.empty()) return false;
   const double eps = 1e-4;
-  std::vector<double> moved = x;
-  for (std::size_t i = 0; i < x.size(); ++i) moved[i] += eps * motion[i];
   const Mat4 before = a.part_frames(x)[t.part.index()] * t.base.matrix();
-  const Mat4 after = a.part_frames(moved)[t.part.index()] * t.base.matrix();
-  const Eigen::AngleAxisd turn(
-      Mat3(after.topLeftCorner<3, 3>() * before.topLeftCorner<3, 3>().transpose()));
-  return turn.angle() > 1e-9 && std::abs(turn.axis().z()) > 0.99;
+  // The target's rate of turning (a rotation vector per unit of motion) along each.
+  Eigen::Matrix3Xd turns(3, static_cast<Eigen::Index>(motions.size()));
+  for (std::size_t k = 0; k < motions.size(); ++k) {
+    std::vector<double> moved = x;
+    for (std::size_t i = 0; i < x.size(); ++i) moved[i] += eps * motions[k][i];
+    const Mat4 after = a.part_frames(moved)[t.part.index()] * t.base.matrix();
+    const Eigen::AngleAxisd turn(
+        Mat3(after.topLeftCorner<3, 3>() * before.topLeftCorner<3, 3>().transpose()));
+    turns.col(static_cast<Eigen::Index>(k)) = turn.angle() / eps * turn.axis();
+  }
+  return vertical_in_span(turns);
 }
 
 SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& options);
@@ -860,11 +881,9 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
   if (whole.target) {
     result.target =
         pose_error(*whole.target, Rigid<double>::from_matrix(frames[whole.target->part.index()]));
-    for (const std::vector<double>& motion : target_neutral) {
-      if (turns_target_about_vertical(assembly, *whole.target, x, motion)) {
-        result.target.twist_free = true;
-        result.target_step1.twist_free = true;
-      }
+    if (target_twists_freely(assembly, *whole.target, x, target_neutral)) {
+      result.target.twist_free = true;
+      result.target_step1.twist_free = true;
     }
   }
   result.max_gap_mm = max_gap(assembly, x, &result.max_gap_deg);

@@ -1,6 +1,7 @@
 #pragma once
 // Internals of solve.cpp exposed to the tests.
 
+#include <Eigen/Dense>
 #include <cstdint>
 #include <vector>
 
@@ -56,5 +57,11 @@ double values_first_mismatch(const Assembly& assembly,
                              const std::vector<double>& x,
                              const std::vector<double>& other,
                              bool target);
+
+/// Whether the vertical lies in the span of `turns` (the target's rotation vectors per unit of
+/// motion along each neutral direction, one a column), counting only turns above round-off
+/// (10⁻⁵ rad per unit): then some costless motion twists the target about the vertical,
+/// whichever basis of the neutral directions the eigensolver returned.
+bool vertical_in_span(const Eigen::Matrix3Xd& turns);
 
 }  // namespace fabkit::hacks::detail

@@ -641,6 +641,30 @@ TEST(Solve, ReportAndResultJsonGiveTheSameVerdict) {
   }
 }
 
+// The target's twist is free when some costless motion turns it about the vertical: a
+// question about the space of neutral directions, not about the basis of it the eigensolver
+// returned.
+TEST(Solve, AFreeTwistIsFoundInAnyBasisOfTheNeutralDirections) {
+  using detail::vertical_in_span;
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(),
+                        z = Eigen::Vector3d::UnitZ();
+  auto turns = [](std::initializer_list<Eigen::Vector3d> columns) {
+    Eigen::Matrix3Xd m(3, static_cast<Eigen::Index>(columns.size()));
+    Eigen::Index k = 0;
+    for (const Eigen::Vector3d& c : columns) m.col(k++) = c;
+    return m;
+  };
+  EXPECT_TRUE(vertical_in_span(turns({0.02 * z})));
+  EXPECT_TRUE(vertical_in_span(turns({Eigen::Vector3d::Zero(), 0.3 * z})));  // and a slide
+  // A twist and a level turn, both free, as their sum and difference: neither is vertical.
+  EXPECT_TRUE(vertical_in_span(turns({z + x, z - x})));
+  EXPECT_TRUE(vertical_in_span(turns({z + 0.3 * y, 2 * (z - 0.3 * y), x})));
+  EXPECT_FALSE(vertical_in_span(turns({x, y})));      // tilts only
+  EXPECT_FALSE(vertical_in_span(turns({z + x})));     // a tilted axis: the twist costs
+  EXPECT_FALSE(vertical_in_span(turns({1e-7 * z})));  // round-off
+  EXPECT_FALSE(vertical_in_span(Eigen::Matrix3Xd(3, 0)));
+}
+
 // The exports open again and leave nothing half-written.
 TEST(Solve, ExportsWriteEveryFile) {
   const Solved s = solve_example("demo");
