@@ -443,6 +443,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
   // the verified configuration; the target's group relaxes from each of step 1's candidates,
   // and the one that holds nearest the target wins (the nearest start may not hold).
   struct GroupOutcome {
+    std::vector<double> start;  // where its relaxation began
     std::vector<double> x;
     StepResult step;
     StabilityReport verdict;
@@ -458,6 +459,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
   };
   auto relax_and_judge = [&](Problem problem, std::vector<double> x0, const SolveOptions& opts) {
     GroupOutcome out;
+    out.start = x0;
     problem.contacts = contacts;
     const Variables vars = select_variables(assembly, /*physics=*/true, &problem);
     out.movable = !vars.index.empty() && problem.total_mass > 0;
@@ -784,6 +786,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
   };
   // The groups share nothing they change (each writes its own outcome; the target's group
   // alone writes the candidates' bookkeeping), so they relax at once, the target's first.
+  bool target_let_go = false;  // the target's group rests as found with the target let go
   std::vector<int> order;
   if (target_group >= 0) order.push_back(target_group);
   for (int g = 0; g < groups; ++g) {
@@ -810,14 +813,25 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
             free = std::move(*nearer);
           }
           steered_outcome = std::move(free);
+          target_let_go = true;
         }
       }
     } else {
       outcomes[static_cast<std::size_t>(g)] = relax_free_group(g, per_group);
     }
   });
-  if (target_group >= 0 && !settled.empty() &&
-      !settled[static_cast<std::size_t>(chosen_candidate)].empty()) {
+  if (target_let_go) {
+    // Step 1's reported result is where the rest was relaxed from (a closing of the group, or
+    // that rest pulled towards the target), not a candidate that fell apart; what step 2 does
+    // not move comes from it too.
+    const std::vector<double>& start = outcomes[static_cast<std::size_t>(target_group)].start;
+    result.step1_parameters = start;
+    result.target_step1 = pose_error(
+        *whole.target,
+        Rigid<double>::from_matrix(assembly.part_frames(start)[whole.target->part.index()]));
+    x = start;
+  } else if (target_group >= 0 && !settled.empty() &&
+             !settled[static_cast<std::size_t>(chosen_candidate)].empty()) {
     // Step 1's reported result is the (settled) start that relaxed into the answer, and what
     // step 2 does not move (fixed joints, where a part sits on a surface) comes from it too.
     const auto chosen = static_cast<std::size_t>(chosen_candidate);
