@@ -182,7 +182,9 @@ PoseError target_error(const Assembly& assembly, const std::vector<double>& x) {
 
 bool detail::vertical_in_span(const Eigen::Matrix3Xd& turns) {
   if (turns.cols() == 0) return false;
-  const Eigen::JacobiSVD<Eigen::Matrix3Xd> svd(turns, Eigen::ComputeThinU);
+  // Dynamic: with a fixed row count the singular values would be a fixed 3-vector, which one
+  // or two columns cannot fill.
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Eigen::MatrixXd(turns), Eigen::ComputeThinU);
   double share = 0;  // the vertical's squared length in the span
   for (Eigen::Index j = 0; j < svd.singularValues().size(); ++j) {
     if (svd.singularValues()[j] > 1e-5) share += std::pow(svd.matrixU()(2, j), 2);
