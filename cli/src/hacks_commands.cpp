@@ -266,16 +266,25 @@ int solve_design(Design design, const DesignSettings& settings, bool write) {
     std::fprintf(stderr, "error: %s\n", hacks::stopped_at_deadline(result, options).c_str());
     return kExitTimeLimit;
   }
-  if (result.stable) return kExitOk;
-  if (result.slips.empty()) {
-    // Said once: the verdict's message is usually one of the diagnostics printed above.
-    const bool said = std::any_of(result.diagnostics.begin(),
-                                  result.diagnostics.end(),
-                                  [&](const Diagnostic& d) { return d.message == result.message; });
-    if (!said) std::fprintf(stderr, "error: %s\n", result.message.c_str());
-    return kExitInfeasible;
+  // The exit code follows the verdict (SolveResult::verdict, in its order): parts passing
+  // through each other are infeasible as found even where a connection also slips.
+  switch (result.verdict()) {
+    case hacks::Verdict::kStable:
+      return kExitOk;
+    case hacks::Verdict::kFallsApart:
+      return kExitFallsApart;
+    case hacks::Verdict::kStopped:  // handled above: a time limit is said first
+    case hacks::Verdict::kPartsPassThrough:
+    case hacks::Verdict::kInfeasible:
+    case hacks::Verdict::kNotAtRest:
+      break;
   }
-  return kExitFallsApart;
+  // Said once: the verdict's message is usually one of the diagnostics printed above.
+  const bool said = std::any_of(result.diagnostics.begin(),
+                                result.diagnostics.end(),
+                                [&](const Diagnostic& d) { return d.message == result.message; });
+  if (!said) std::fprintf(stderr, "error: %s\n", result.message.c_str());
+  return kExitInfeasible;
 }
 
 }  // namespace
