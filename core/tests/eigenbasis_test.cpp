@@ -59,14 +59,6 @@ void expect_eigendecomposition(const Eigen::MatrixXd& h, const Eigenbasis& basis
   Eigen::VectorXd x(n);
   for (int i = 0; i < n; ++i) x[i] = normal(rng);
   EXPECT_LT((basis.combination(basis.coordinates(x)) - x).norm(), 1e-12 * n * x.norm());
-  // V formed whole (the stability check's directions) is orthonormal, H·V = V·Λ, and its
-  // columns are the vectors one by one.
-  const Eigen::MatrixXd v = basis.matrix();
-  ASSERT_EQ(v.rows(), n);
-  ASSERT_EQ(v.cols(), n);
-  EXPECT_LT((v.transpose() * v - Eigen::MatrixXd::Identity(n, n)).norm(), 1e-12 * n);
-  EXPECT_LT((h * v - v * basis.values().asDiagonal()).norm(), 1e-12 * n * n * scale);
-  for (int i = 0; i < n; ++i) EXPECT_LT((v.col(i) - basis.vector(i)).norm(), 1e-13 * n) << i;
   // The largest entry of the lowest curvature's vector is positive.
   const Eigen::VectorXd lowest = basis.vector(0);
   Eigen::Index k = 0;

@@ -350,8 +350,7 @@ StabilityReport check_stability(const Problem& p,
   const solvers::ManifoldSolver::Curvature curv = solver.curvature(pt);
   report.neutral_threshold = curv.neutral_threshold;
   if (curv.eigenvalues.size() > 0) report.smallest_curvature = curv.eigenvalues[0];
-  for (int i = 0; i < curv.eigenvalues.size(); ++i) {
-    if (std::abs(curv.eigenvalues[i]) > curv.neutral_threshold) continue;
+  for (int i = 0; i < curv.directions.cols(); ++i) {
     const Eigen::VectorXd d = curv.directions.col(i);
     const double largest = d.cwiseAbs().maxCoeff();
     NeutralDirection nd;

@@ -104,11 +104,4 @@ Eigen::VectorXd Eigenbasis::vector(int i) const {
   return tridiagonal_->matrixQ() * vectors_.col(i);
 }
 
-Eigen::MatrixXd Eigenbasis::matrix() const {
-  if (!tridiagonal_) return vectors_;
-  Eigen::MatrixXd v = vectors_;
-  v.applyOnTheLeft(tridiagonal_->matrixQ());
-  return v;
-}
-
 }  // namespace fabkit::solvers

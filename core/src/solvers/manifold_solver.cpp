@@ -741,13 +741,23 @@ ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
   // third of a 128-hook chain's solve.
   const Eigenbasis eig(H);
   c.eigenvalues = eig.values();
-  const Eigen::MatrixXd local = act.along(eig.matrix());
+  const double largest = c.eigenvalues.size() ? c.eigenvalues.cwiseAbs().maxCoeff() : 0.0;
+  c.neutral_threshold = std::max(options_.neutral_floor, options_.neutral_curvature * largest);
+  // Only the neutral directions are formed: the rest would cost a product the size of the
+  // model's cube and nobody reads them.
+  std::vector<int> neutral;
+  for (int i = 0; i < c.eigenvalues.size(); ++i) {
+    if (std::abs(c.eigenvalues[i]) <= c.neutral_threshold) neutral.push_back(i);
+  }
+  Eigen::MatrixXd basis(eig.size(), static_cast<Eigen::Index>(neutral.size()));
+  for (std::size_t k = 0; k < neutral.size(); ++k) {
+    basis.col(static_cast<Eigen::Index>(k)) = eig.vector(neutral[k]);
+  }
+  const Eigen::MatrixXd local = act.along(basis);
   c.directions = Eigen::MatrixXd::Zero(n_, local.cols());
   for (std::size_t i = 0; i < act.free.size(); ++i) {
     c.directions.row(act.free[i]) = local.row(static_cast<int>(i));
   }
-  const double largest = c.eigenvalues.size() ? c.eigenvalues.cwiseAbs().maxCoeff() : 0.0;
-  c.neutral_threshold = std::max(options_.neutral_floor, options_.neutral_curvature * largest);
   return c;
 }
 

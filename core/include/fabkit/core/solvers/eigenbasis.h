@@ -37,8 +37,6 @@ class Eigenbasis {
   Eigen::VectorXd combination(const Eigen::VectorXd& y) const;
   /// Eigenvector i.
   Eigen::VectorXd vector(int i) const;
-  /// V, every eigenvector a column (formed: one product of Q with S when factored).
-  Eigen::MatrixXd matrix() const;
 
  private:
   void decompose(const Eigen::MatrixXd& symmetric, bool factored);

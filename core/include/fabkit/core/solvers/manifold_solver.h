@@ -199,8 +199,10 @@ class ManifoldSolver {
   /// Second-order information at a point: the reduced Hessian of the Lagrangian along the
   /// allowed motions, in its eigenbasis.
   struct Curvature {
-    Eigen::VectorXd eigenvalues;   ///< ascending
-    Eigen::MatrixXd directions;    ///< columns: the eigenvectors, in z coordinates
+    Eigen::VectorXd eigenvalues;  ///< ascending
+    /// Columns: the eigenvectors of the neutral curvatures (|eigenvalue| ≤ neutral_threshold),
+    /// in the order of their eigenvalues, in z coordinates.
+    Eigen::MatrixXd directions;
     double neutral_threshold = 0;  ///< |eigenvalue| below this is neutral
     std::vector<int> free;         ///< coordinates the directions move
   };
