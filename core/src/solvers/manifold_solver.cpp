@@ -749,6 +749,8 @@ ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
   for (int i = 0; i < c.eigenvalues.size(); ++i) {
     if (std::abs(c.eigenvalues[i]) <= c.neutral_threshold) neutral.push_back(i);
   }
+  c.directions.resize(n_, 0);
+  if (neutral.empty()) return c;  // (rows of an empty matrix have no data to point at)
   Eigen::MatrixXd basis(eig.size(), static_cast<Eigen::Index>(neutral.size()));
   for (std::size_t k = 0; k < neutral.size(); ++k) {
     basis.col(static_cast<Eigen::Index>(k)) = eig.vector(neutral[k]);
