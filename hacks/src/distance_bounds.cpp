@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <utility>
@@ -15,7 +16,6 @@ namespace fabkit::hacks::detail {
 namespace {
 
 struct PointSet {
-  const Primitive* primitive = nullptr;
   std::vector<ParamSpec> specs;
   std::vector<int> moving;             // parameters that move the connector point
   std::vector<std::vector<double>> q;  // parameters of each sample
@@ -30,7 +30,6 @@ Vec3 connector_position(const Primitive& p, const std::vector<double>& q) {
 // Samples the connector origins of `p` over its whole parameter box, in part coordinates.
 PointSet sample_connector_points(const Primitive& p) {
   PointSet out;
-  out.primitive = &p;
   out.specs = p.connector_params();
   const std::vector<ParamSpec>& specs = out.specs;
   std::vector<double> q0;
@@ -91,18 +90,18 @@ PointSet sample_connector_points(const Primitive& p) {
 
 // Compass search from the best sample pair: sharpens the extreme distance so messages quote
 // the real number; the sampling margin still guards the reject decision.
-double refine_extreme(const PointSet& a,
+double refine_extreme(const Primitive& pa,
+                      const PointSet& a,
                       const Mat4& fa,
                       std::vector<double> qa,
+                      const Primitive& pb,
                       const PointSet& b,
                       const Mat4& fb,
                       std::vector<double> qb,
                       double sign) {
   auto dist = [&](const std::vector<double>& x, const std::vector<double>& y) {
-    const Vec3 u =
-        fa.topLeftCorner<3, 3>() * connector_position(*a.primitive, x) + fa.topRightCorner<3, 1>();
-    const Vec3 v =
-        fb.topLeftCorner<3, 3>() * connector_position(*b.primitive, y) + fb.topRightCorner<3, 1>();
+    const Vec3 u = fa.topLeftCorner<3, 3>() * connector_position(pa, x) + fa.topRightCorner<3, 1>();
+    const Vec3 v = fb.topLeftCorner<3, 3>() * connector_position(pb, y) + fb.topRightCorner<3, 1>();
     return sign * (u - v).norm();
   };
   struct Var {
@@ -157,6 +156,31 @@ namespace {
 
 // Every number a distance range depends on: the two connectors' kinds, shapes, frames in their
 // bodies and parameter boxes, where their bodies are, and whether they are one point set.
+// Every number a connector's points depend on, appended to `key`: its kind, shape, frame in
+// its body and parameter box.
+void append_primitive_key(const Primitive& p, std::vector<double>& key) {
+  const PrimitiveShape& s = p.shape;
+  key.push_back(static_cast<double>(p.connector_kind()));
+  key.insert(key.end(),
+             {s.radius,
+              s.length,
+              s.arc_radius,
+              s.arc_angle,
+              s.thickness,
+              s.inner_radius,
+              s.width,
+              s.height,
+              s.dist,
+              s.open_gap});
+  const Mat4 f = p.frame.matrix();
+  key.insert(key.end(), f.data(), f.data() + 16);
+  for (const ParamSpec& spec : p.connector_params()) {
+    key.insert(key.end(), {spec.init, spec.lo, spec.hi, static_cast<double>(spec.tag)});
+  }
+}
+
+// Every number a distance range depends on: the two connectors (above), where their bodies
+// are, and whether they are one point set.
 std::vector<double> range_key(const Primitive& a,
                               const Mat4& frame_a,
                               const Primitive& b,
@@ -164,27 +188,40 @@ std::vector<double> range_key(const Primitive& a,
                               bool same_point_set) {
   std::vector<double> key{same_point_set ? 1.0 : 0.0};
   for (const auto& [p, m] : {std::pair{&a, &frame_a}, std::pair{&b, &frame_b}}) {
-    const PrimitiveShape& s = p->shape;
-    key.push_back(static_cast<double>(p->connector_kind()));
-    key.insert(key.end(),
-               {s.radius,
-                s.length,
-                s.arc_radius,
-                s.arc_angle,
-                s.thickness,
-                s.inner_radius,
-                s.width,
-                s.height,
-                s.dist,
-                s.open_gap});
-    const Mat4 f = p->frame.matrix();
-    key.insert(key.end(), f.data(), f.data() + 16);
+    append_primitive_key(*p, key);
     key.insert(key.end(), m->data(), m->data() + 16);
-    for (const ParamSpec& spec : p->connector_params()) {
-      key.insert(key.end(), {spec.init, spec.lo, spec.hi, static_cast<double>(spec.tag)});
-    }
   }
   return key;
+}
+
+// Samples taken so far in this process, by connector: one connector is in many ranges (a
+// clip's hemisphere against each thing it holds; the toothbrush holder sampled one 625-point
+// set four times, a third of verifying it). Compared exactly; emptied when full.
+class SampleMemo {
+ public:
+  std::shared_ptr<const PointSet> get(const Primitive& p) {
+    std::vector<double> key;
+    append_primitive_key(p, key);
+    {
+      const std::lock_guard lock(mutex_);
+      const auto it = samples_.find(key);
+      if (it != samples_.end()) return it->second;
+    }
+    auto sampled = std::make_shared<const PointSet>(sample_connector_points(p));
+    const std::lock_guard lock(mutex_);
+    if (samples_.size() >= 256) samples_.clear();
+    samples_.emplace(std::move(key), sampled);
+    return sampled;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<std::vector<double>, std::shared_ptr<const PointSet>> samples_;
+};
+
+SampleMemo& sample_memo() {
+  static SampleMemo memo;
+  return memo;
 }
 
 // Ranges measured so far in this process: a design's copies of one part (the S-hooks of a
@@ -241,8 +278,11 @@ DistanceRange measure_distance_range(const Primitive& a,
                                      const Primitive& b,
                                      const Mat4& frame_b,
                                      bool same_point_set) {
-  const PointSet sa = sample_connector_points(a);
-  const PointSet sb = same_point_set ? sa : sample_connector_points(b);
+  const std::shared_ptr<const PointSet> samples_a = sample_memo().get(a);
+  const std::shared_ptr<const PointSet> samples_b =
+      same_point_set ? samples_a : sample_memo().get(b);
+  const PointSet& sa = *samples_a;
+  const PointSet& sb = *samples_b;
   auto place = [](const Vec3& v, const Mat4& m) {
     return Vec3(m.topLeftCorner<3, 3>() * v + m.topRightCorner<3, 1>());
   };
@@ -287,10 +327,11 @@ DistanceRange measure_distance_range(const Primitive& a,
   const double hi = hi2 < 0 ? -1.0 : std::sqrt(hi2);
   DistanceRange r;
   r.margin = sa.margin + sb.margin;
-  r.hi = std::max(hi, refine_extreme(sa, frame_a, sa.q[hi_i], sb, frame_b, sb.q[hi_j], -1.0));
+  r.hi = std::max(hi, refine_extreme(a, sa, frame_a, sa.q[hi_i], b, sb, frame_b, sb.q[hi_j], -1.0));
   r.lo = same_point_set
              ? 0.0
-             : std::min(lo, refine_extreme(sa, frame_a, sa.q[lo_i], sb, frame_b, sb.q[lo_j], 1.0));
+             : std::min(
+                   lo, refine_extreme(a, sa, frame_a, sa.q[lo_i], b, sb, frame_b, sb.q[lo_j], 1.0));
   return r;
 }
 
