@@ -98,13 +98,6 @@ std::vector<double> settle_candidate(const Problem& p,
 
 namespace {
 
-// Variables from which step 1's guided start runs beside the verified one. Below, the verified
-// start's fit is about a millisecond, and a fresh `fabkit solve` process measured 1.7-2.3 ms
-// slower with the guided start beside it (soap bottle holder, diaper caddy), a thread's start
-// and the two competing while everything is cold; from a 12-hook chain (48) on, the verified
-// start's fit is long and the guided one beside it is the gain (32 hooks: 215 -> 148 ms).
-constexpr int kGuidedBesideFrom = 48;
-
 // One start of step 1: where it begins (below) and the fit from there; nothing when its cycles
 // could not be closed there or the deadline has passed. The first three begin from `verified`,
 // the verified configuration (a long chain hung from the top: hanging.h). `give_up` matters to the
@@ -279,8 +272,16 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   auto random_plan = [&] {
     return std::pair(reached() ? std::min(3, starts) : starts, 5 * best_score);
   };
-  if (thread_count(o.threads) > 1 && starts > 1 &&
-      static_cast<int>(vars.index.size()) >= kGuidedBesideFrom) {
+  // With two threads the guided start runs beside the verified one at every size. It used to
+  // wait for it below 48 variables, where a fresh `fabkit solve` process measured 1.7-2.3 ms
+  // slower with the two side by side (a thread's start, both competing while everything is
+  // cold) on the machine of 2026-12-05; on the one of 2026-12-07 the process times were the
+  // same either way (medians of 15, seven designs) and the solve stage 1-3 ms faster for the
+  // soap bottle holder, the mug hanger, the paper towel holder and the one eye hook (three
+  // interleaved rounds), gallery results identical. From a 12-hook chain on, the verified
+  // start's fit is long and the guided one beside it always was the gain (32 hooks: 215 ->
+  // 148 ms).
+  if (thread_count(o.threads) > 1 && starts > 1) {
     // The guided start does not depend on the verified start's fit (it gives nothing up), so
     // it runs beside it, called off if the verified start reaches the target (then it is not
     // wanted). The random starts depend on the verified start's fit alone (whether it reached
