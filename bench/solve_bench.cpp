@@ -195,6 +195,22 @@ void slack_span(benchmark::State& state) {
 }
 BENCHMARK(slack_span)->Arg(15)->Arg(20)->Arg(24)->Arg(28)->Unit(benchmark::kMillisecond);
 
+// A shower curtain rod in two S-hooks on a rail (three parts, no target): what relaxations
+// with contact rows cost where the contacts they bind change from step to step (three of its
+// runs stop at the 150-iteration cap for contact runs: docs/benchmarks.md, the twelfth stop).
+void contacts_bar_in_two_hooks(benchmark::State& state) {
+  time_solve(state,
+             "fabkit: hacks/1\nname: bar in two hooks\nenvironment:\n"
+             "  - {name: rail, primitives: {rod: {type: rod, radius: 6, length: 400}}, "
+             "frame: {pos: [0, 0, 1200], rot: [0, 90, 0]}}\n"
+             "parts:\n  - {name: s1, part: DoubleHook}\n  - {name: s2, part: DoubleHook}\n"
+             "  - {name: bar, part: ShowerCurtainRod}\nconnections:\n"
+             "  - connect: [s1.hook1, rail.rod]\n  - connect: [bar.rod, s1.hook2]\n"
+             "  - connect: [s2.hook1, rail.rod]\n  - connect: [s2.hook2, bar.rod]\n",
+             "bar in two hooks");
+}
+BENCHMARK(contacts_bar_in_two_hooks)->Unit(benchmark::kMillisecond)->Iterations(3);
+
 }  // namespace
 
 BENCHMARK_MAIN();
