@@ -8,7 +8,6 @@
 #include <map>
 #include <memory>
 #include <mutex>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -154,8 +153,6 @@ double refine_extreme(const Primitive& pa,
 
 namespace {
 
-// Every number a distance range depends on: the two connectors' kinds, shapes, frames in their
-// bodies and parameter boxes, where their bodies are, and whether they are one point set.
 // Every number a connector's points depend on, appended to `key`: its kind, shape, frame in
 // its body and parameter box.
 void append_primitive_key(const Primitive& p, std::vector<double>& key) {
@@ -194,61 +191,42 @@ std::vector<double> range_key(const Primitive& a,
   return key;
 }
 
-// Samples taken so far in this process, by connector: one connector is in many ranges (a
-// clip's hemisphere against each thing it holds; the toothbrush holder sampled one 625-point
-// set four times, a third of verifying it). Compared exactly; emptied when full.
-class SampleMemo {
+// What was computed so far in this process, by every number it depends on (compared exactly;
+// emptied when full). The value is computed outside the lock: two threads may both compute a
+// missing one, which is the same value.
+template <class Value>
+class ProcessMemo {
  public:
-  std::shared_ptr<const PointSet> get(const Primitive& p) {
-    std::vector<double> key;
-    append_primitive_key(p, key);
+  explicit ProcessMemo(std::size_t capacity) : capacity_(capacity) {}
+  template <class Compute>
+  Value get(std::vector<double> key, Compute compute) {
     {
       const std::lock_guard lock(mutex_);
-      const auto it = samples_.find(key);
-      if (it != samples_.end()) return it->second;
+      const auto it = values_.find(key);
+      if (it != values_.end()) return it->second;
     }
-    auto sampled = std::make_shared<const PointSet>(sample_connector_points(p));
+    Value value = compute();
     const std::lock_guard lock(mutex_);
-    if (samples_.size() >= 256) samples_.clear();
-    samples_.emplace(std::move(key), sampled);
-    return sampled;
+    if (values_.size() >= capacity_) values_.clear();
+    values_.emplace(std::move(key), value);
+    return value;
   }
 
  private:
+  std::size_t capacity_;
   std::mutex mutex_;
-  std::map<std::vector<double>, std::shared_ptr<const PointSet>> samples_;
+  std::map<std::vector<double>, Value> values_;
 };
 
-SampleMemo& sample_memo() {
-  static SampleMemo memo;
-  return memo;
-}
-
-// Ranges measured so far in this process: a design's copies of one part (the S-hooks of a
-// chain) span the same range, and each costs thousands of samples and a local search (a fifth
-// of verifying 8 independent cycles of S-hooks). Compared exactly; emptied when full.
-class RangeMemo {
- public:
-  std::optional<DistanceRange> find(const std::vector<double>& key) {
-    const std::lock_guard lock(mutex_);
-    const auto it = ranges_.find(key);
-    if (it == ranges_.end()) return std::nullopt;
-    return it->second;
-  }
-  void keep(std::vector<double> key, const DistanceRange& range) {
-    const std::lock_guard lock(mutex_);
-    if (ranges_.size() >= 1024) ranges_.clear();
-    ranges_.emplace(std::move(key), range);
-  }
-
- private:
-  std::mutex mutex_;
-  std::map<std::vector<double>, DistanceRange> ranges_;
-};
-
-RangeMemo& range_memo() {
-  static RangeMemo memo;
-  return memo;
+// A connector's samples: one connector is in many ranges (a clip's hemisphere against each
+// thing it holds; the toothbrush holder sampled one 625-point set four times, a third of
+// verifying it).
+std::shared_ptr<const PointSet> connector_samples(const Primitive& p) {
+  static ProcessMemo<std::shared_ptr<const PointSet>> memo(256);
+  std::vector<double> key;
+  append_primitive_key(p, key);
+  return memo.get(std::move(key),
+                  [&] { return std::make_shared<const PointSet>(sample_connector_points(p)); });
 }
 
 DistanceRange measure_distance_range(const Primitive& a,
@@ -264,11 +242,11 @@ DistanceRange connector_distance_range(const Primitive& a,
                                        const Primitive& b,
                                        const Mat4& frame_b,
                                        bool same_point_set) {
-  std::vector<double> key = range_key(a, frame_a, b, frame_b, same_point_set);
-  if (const std::optional<DistanceRange> known = range_memo().find(key)) return *known;
-  const DistanceRange range = measure_distance_range(a, frame_a, b, frame_b, same_point_set);
-  range_memo().keep(std::move(key), range);
-  return range;
+  // A design's copies of one part (the S-hooks of a chain) span the same range, and each costs
+  // thousands of samples and a local search (a fifth of verifying 8 independent cycles).
+  static ProcessMemo<DistanceRange> memo(1024);
+  return memo.get(range_key(a, frame_a, b, frame_b, same_point_set),
+                  [&] { return measure_distance_range(a, frame_a, b, frame_b, same_point_set); });
 }
 
 namespace {
@@ -278,9 +256,9 @@ DistanceRange measure_distance_range(const Primitive& a,
                                      const Primitive& b,
                                      const Mat4& frame_b,
                                      bool same_point_set) {
-  const std::shared_ptr<const PointSet> samples_a = sample_memo().get(a);
+  const std::shared_ptr<const PointSet> samples_a = connector_samples(a);
   const std::shared_ptr<const PointSet> samples_b =
-      same_point_set ? samples_a : sample_memo().get(b);
+      same_point_set ? samples_a : connector_samples(b);
   const PointSet& sa = *samples_a;
   const PointSet& sb = *samples_b;
   auto place = [](const Vec3& v, const Mat4& m) {

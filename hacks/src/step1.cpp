@@ -196,9 +196,10 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   auto score = [](const PoseError& e) {
     return e.position_mm * e.position_mm + e.rotation_deg * e.rotation_deg;
   };
-  auto reached = [&] {
-    return best.error.position_mm < kTargetReached && best.error.rotation_deg < kTargetReached;
+  auto within_reach = [](const PoseError& e) {
+    return e.position_mm < kTargetReached && e.rotation_deg < kTargetReached;
   };
+  auto reached = [&] { return within_reach(best.error); };
   double best_score = score(best.error);
   std::vector<std::vector<Mat4>> seen_frames;
   // A start's fit joins the candidates in the order of the starts, whatever order the threads
@@ -256,12 +257,9 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
     std::optional<StepResult> fit;
     if (start > 2 && first_reaching.load() < start) return fit;
     fit = fit_from_start(q, vars, verified, o, start, give_up);
-    if (fit && fit->closed) {
-      const PoseError e = error_at(p, fit->x);
-      if (e.position_mm < kTargetReached && e.rotation_deg < kTargetReached) {
-        int seen = first_reaching.load();
-        while (start < seen && !first_reaching.compare_exchange_weak(seen, start)) {
-        }
+    if (fit && fit->closed && within_reach(error_at(p, fit->x))) {
+      int seen = first_reaching.load();
+      while (start < seen && !first_reaching.compare_exchange_weak(seen, start)) {
       }
     }
     return fit;
@@ -272,15 +270,9 @@ Step1Result run_step1(const Problem& p, const SolveOptions& o) {
   auto random_plan = [&] {
     return std::pair(reached() ? std::min(3, starts) : starts, 5 * best_score);
   };
-  // With two threads the guided start runs beside the verified one at every size. It used to
-  // wait for it below 48 variables, where a fresh `fabkit solve` process measured 1.7-2.3 ms
-  // slower with the two side by side (a thread's start, both competing while everything is
-  // cold) on the machine of 2026-12-05; on the one of 2026-12-07 the process times were the
-  // same either way (medians of 15, seven designs) and the solve stage 1-3 ms faster for the
-  // soap bottle holder, the mug hanger, the paper towel holder and the one eye hook (three
-  // interleaved rounds), gallery results identical. From a 12-hook chain on, the verified
-  // start's fit is long and the guided one beside it always was the gain (32 hooks: 215 ->
-  // 148 ms).
+  // With two threads the guided start runs beside the verified one at every size: 1-3 ms off
+  // the small gallery designs' solve stages, 215 -> 148 ms for a 32-hook chain (history in
+  // docs/benchmarks.md, the twelfth stop).
   if (thread_count(o.threads) > 1 && starts > 1) {
     // The guided start does not depend on the verified start's fit (it gives nothing up), so
     // it runs beside it, called off if the verified start reaches the target (then it is not
