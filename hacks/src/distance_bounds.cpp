@@ -22,24 +22,39 @@ struct PointSet {
   double margin = 0;                   // every reachable point lies within `margin` of some sample
 };
 
-Vec3 connector_position(const Primitive& p, const std::vector<double>& q) {
-  return connector_frame<double>(p, q.data()).topRightCorner<3, 1>();
-}
+// A primitive's connector origins (part coordinates) for parameters q: connector_frame's
+// translation, from the primitive's base frame turned into a transform once, not per point (its
+// Euler angles' sines and cosines were a third of sampling a connector).
+class ConnectorOrigins {
+ public:
+  explicit ConnectorOrigins(const Primitive& p)
+      : p_(p), base_(Rigid<double>::from_matrix(p.frame.matrix())) {}
+  Vec3 operator()(const std::vector<double>& q) const {
+    Rigid<double> m = base_;
+    apply_connector<double>(p_.connector_kind(), p_.shape, q.data(), m);
+    return m.t;
+  }
+
+ private:
+  const Primitive& p_;
+  Rigid<double> base_;
+};
 
 // Samples the connector origins of `p` over its whole parameter box, in part coordinates.
 PointSet sample_connector_points(const Primitive& p) {
   PointSet out;
   out.specs = p.connector_params();
   const std::vector<ParamSpec>& specs = out.specs;
+  const ConnectorOrigins connector_position(p);
   std::vector<double> q0;
   for (const auto& s : specs) q0.push_back(s.init);
-  const Vec3 p0 = connector_position(p, q0);
+  const Vec3 p0 = connector_position(q0);
 
   // Only parameters that move the point matter (spins and tilts do not).
   for (std::size_t i = 0; i < specs.size(); ++i) {
     std::vector<double> q = q0;
     q[i] = specs[i].lo + 0.37 * (specs[i].hi - specs[i].lo);
-    if ((connector_position(p, q) - p0).norm() > 1e-9) out.moving.push_back(static_cast<int>(i));
+    if ((connector_position(q) - p0).norm() > 1e-9) out.moving.push_back(static_cast<int>(i));
   }
   const int dims = static_cast<int>(out.moving.size());
   const int n = dims <= 1 ? 97 : (dims == 2 ? 25 : 11);
@@ -65,14 +80,13 @@ PointSet sample_connector_points(const Primitive& p) {
     for (std::size_t d = 0; d < axes.size(); ++d) {
       q[static_cast<std::size_t>(out.moving[d])] = axes[d].lo + axes[d].step * idx[d];
     }
-    out.points.push_back(connector_position(p, q));
+    out.points.push_back(connector_position(q));
     // Rate of change along each axis, for the covering margin.
     for (std::size_t d = 0; d < axes.size(); ++d) {
       const double h = std::max(axes[d].step * 1e-3, 1e-7);
       std::vector<double> qp = q;
       qp[static_cast<std::size_t>(out.moving[d])] += h;
-      max_rate[d] =
-          std::max(max_rate[d], (connector_position(p, qp) - out.points.back()).norm() / h);
+      max_rate[d] = std::max(max_rate[d], (connector_position(qp) - out.points.back()).norm() / h);
     }
     out.q.push_back(std::move(q));
     std::size_t d = 0;
@@ -98,9 +112,10 @@ double refine_extreme(const Primitive& pa,
                       const Mat4& fb,
                       std::vector<double> qb,
                       double sign) {
+  const ConnectorOrigins origin_a(pa), origin_b(pb);
   auto dist = [&](const std::vector<double>& x, const std::vector<double>& y) {
-    const Vec3 u = fa.topLeftCorner<3, 3>() * connector_position(pa, x) + fa.topRightCorner<3, 1>();
-    const Vec3 v = fb.topLeftCorner<3, 3>() * connector_position(pb, y) + fb.topRightCorner<3, 1>();
+    const Vec3 u = fa.topLeftCorner<3, 3>() * origin_a(x) + fa.topRightCorner<3, 1>();
+    const Vec3 v = fb.topLeftCorner<3, 3>() * origin_b(y) + fb.topRightCorner<3, 1>();
     return sign * (u - v).norm();
   };
   struct Var {
