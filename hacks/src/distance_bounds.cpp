@@ -321,7 +321,12 @@ DistanceRange measure_distance_range(const Primitive& a,
       const Box& box = boxes[k];
       const Vec3 below = (box.lo - u).cwiseMax(u - box.hi).cwiseMax(0.0);
       const Vec3 across = (u - box.lo).cwiseAbs().cwiseMax((box.hi - u).cwiseAbs());
-      if (below.squaredNorm() >= lo2 && across.squaredNorm() <= hi2) continue;
+      // Summed in the order the pairs' distances are, so that a bound equal to a pair's
+      // distance is the same double.
+      const double nearest = below.x() * below.x() + below.y() * below.y() + below.z() * below.z();
+      const double farthest =
+          across.x() * across.x() + across.y() * across.y() + across.z() * across.z();
+      if (nearest >= lo2 && farthest <= hi2) continue;
       const std::size_t start = k * kBlock;
       const std::size_t count = std::min(kBlock, nb - start);
       double block_lo = std::numeric_limits<double>::infinity();
