@@ -66,7 +66,7 @@ std::optional<YAML::Node> YamlReader::parse(std::string_view text) {
     return YAML::Load(std::string(text));
   } catch (const YAML::Exception& e) {
     SourceLocation where = start();
-    if (e.mark.line >= 0) where = {file_, e.mark.line + 1, e.mark.column + 1};
+    if (e.mark.line >= 0) where = {file_, file_line(e.mark.line), e.mark.column + 1};
     error(codes::kMalformedInput, fmt::format("YAML syntax error: {}", e.msg), where);
   } catch (const std::exception& e) {
     // yaml-cpp can run out of stack-safe depth or memory on hostile input.
@@ -94,7 +94,14 @@ std::optional<YAML::Node> YamlReader::parse_mapping(std::string_view text,
 SourceLocation YamlReader::at(const YAML::Node& node) const {
   const YAML::Mark m = node.Mark();
   if (m.line < 0) return SourceLocation{file_, 0, 0};
-  return SourceLocation{file_, m.line + 1, m.column + 1};
+  return SourceLocation{file_, file_line(m.line), m.column + 1};
+}
+
+int YamlReader::file_line(int line) const {
+  if (line >= 0 && static_cast<std::size_t>(line) < file_lines_.size()) {
+    return file_lines_[static_cast<std::size_t>(line)];
+  }
+  return line + 1;
 }
 
 void YamlReader::error(DiagnosticCode code, std::string message, SourceLocation where) {

@@ -55,11 +55,18 @@ class PartFileReader {
                  Diagnostics& diags)
       : base_dir_(std::move(base_dir)), library_(library), in_(std::move(display_name), diags) {}
 
+  /// Lines of a part file to read as one document, and the file's line of each (1-based), so
+  /// that messages name the file's own lines. No lines: the document is not the file's text.
+  struct Excerpt {
+    std::string text;
+    std::vector<int> lines;
+  };
+
   struct Entry {
     Part part;  ///< with `contents`, only its name, description and category
     std::vector<std::string> aliases;
-    /// When its contents are read later: a document holding the entry alone, at its own lines.
-    std::optional<std::string> contents;
+    /// When its contents are read later: a document of the file's header and the entry alone.
+    std::optional<Excerpt> contents;
   };
 
   // Parsed parts, or nullopt if anything was wrong. With `defer_contents` each part's
@@ -88,7 +95,8 @@ class PartFileReader {
           YAML::Emitter alone;
           alone << YAML::BeginMap << YAML::Key << "parts" << YAML::Value << YAML::BeginSeq << node
                 << YAML::EndSeq << YAML::EndMap;
-          result_.push_back({std::move(part), std::move(aliases), std::string(alone.c_str())});
+          result_.push_back(
+              {std::move(part), std::move(aliases), Excerpt{std::string(alone.c_str()), {}}});
         } else if (read_contents(node, part, who)) {
           result_.push_back({std::move(part), std::move(aliases), std::nullopt});
         }
@@ -165,23 +173,26 @@ class PartFileReader {
     return f;
   }
 
-  // The file's header and the lines `keep` says, every other line blank: the lines kept stay
-  // where they are in the file, so that messages name the file's own lines. Comment lines are
-  // left blank too: yaml-cpp scans about 100 ns a byte, and the header's comments went into
-  // every document (a fifth of each part's reading). A '#' no deeper than an entry's keys
-  // (column 4) cannot be inside a block scalar: those lines are deeper than their key.
+  // The file's header and the lines `keep` says, each with the file's line it is: the lines
+  // left out are not in the document at all (yaml-cpp scans about 100 ns a byte, and a part's
+  // document that kept the whole file's other lines blank spent half its reading on them).
+  // Comment lines are blank: the header's comments went into every document (a fifth of each
+  // part's reading). A '#' no deeper than an entry's keys (column 4) cannot be inside a block
+  // scalar: those lines are deeper than their key.
   template <class Keep>
-  static std::string with_lines(const SplitFile& f, Keep keep) {
+  static Excerpt with_lines(const SplitFile& f, Keep keep) {
     auto comment = [](std::string_view line) {
       const std::size_t c = line.find_first_not_of(' ');
       return c != std::string_view::npos && c <= 4 && line[c] == '#';
     };
-    std::string doc;
+    Excerpt out;
     for (std::size_t i = 0; i < f.lines.size(); ++i) {
-      if ((i <= f.parts_line || keep(i)) && !comment(f.lines[i])) doc += f.lines[i];
-      doc += '\n';
+      if (i > f.parts_line && !keep(i)) continue;
+      if (!comment(f.lines[i])) out.text += f.lines[i];
+      out.text += '\n';
+      out.lines.push_back(static_cast<int>(i) + 1);
     }
-    return doc;
+    return out;
   }
 
   // Reads the identities of every entry from one document of their identity lines; each entry's
@@ -191,8 +202,9 @@ class PartFileReader {
     for (const SplitFile::Span& e : f.entries) {
       for (std::size_t k = e.first; k < e.head_end; ++k) head[k] = 1;
     }
-    const auto root = in_.parse_mapping(with_lines(f, [&](std::size_t i) { return head[i] != 0; }),
-                                        "a 'parts' list");
+    Excerpt identities = with_lines(f, [&](std::size_t i) { return head[i] != 0; });
+    in_.set_line_numbers(std::move(identities.lines));
+    const auto root = in_.parse_mapping(identities.text, "a 'parts' list");
     if (!root) return std::nullopt;
     in_.check_keys(*root, {"fabkit", "parts"}, "a part file");
     const YAML::Node parts = (*root)["parts"];
@@ -293,8 +305,9 @@ class PartFileReader {
  public:
   // The rest of the part: primitives, mesh, body, mass properties; false if any is wrong.
   // The contents of the one entry of a deferred entry's document (Entry::contents).
-  bool read_deferred(std::string_view document, Part& part, const std::string& who) {
-    const auto root = in_.parse_mapping(document, "a 'parts' list");
+  bool read_deferred(const Excerpt& document, Part& part, const std::string& who) {
+    in_.set_line_numbers(document.lines);
+    const auto root = in_.parse_mapping(document.text, "a 'parts' list");
     if (!root) return false;
     const YAML::Node parts = (*root)["parts"];
     if (!parts || !parts.IsSequence() || parts.size() != 1) {
@@ -431,7 +444,7 @@ class DeferredPart {
  public:
   DeferredPart(std::string file,
                std::filesystem::path base_dir,
-               std::string document,
+               PartFileReader::Excerpt document,
                Part identity)
       : file_(std::move(file)),
         base_dir_(std::move(base_dir)),
@@ -454,7 +467,7 @@ class DeferredPart {
             diags.empty() ? std::string("unknown error") : diags.items().front().format()));
       }
       part_ = std::move(part);
-      document_.clear();
+      document_ = {};
     });
     return *part_;
   }
@@ -462,7 +475,7 @@ class DeferredPart {
  private:
   std::string file_;
   std::filesystem::path base_dir_;
-  std::string document_;
+  PartFileReader::Excerpt document_;
   Part identity_;
   std::optional<Part> part_;
   std::once_flag built_;

@@ -540,6 +540,40 @@ TEST_F(PartFiles, OnFirstUseReadsEachEntryAtItsOwnLines) {
   EXPECT_NE(d2.format().find("dup.yaml:4"), std::string::npos) << d2.format();
 }
 
+// Each entry read on first use is a document of the file's header and that entry's lines
+// alone (not the whole file with the other lines blank): a syntax error in it still names the
+// file's own line, past other entries and comments.
+TEST_F(PartFiles, OnFirstUseSyntaxErrorNamesTheFilesLine) {
+  const std::string text =
+      "# a header comment\n"
+      "fabkit: hacks/1\n"
+      "parts:\n"
+      "  - name: FirstPeg\n"
+      "    primitives:\n"
+      "      - {name: peg, type: rod, radius: 2, length: 30}\n"
+      "  # a comment between entries\n"
+      "  - name: BrokenPeg\n"
+      "    description: its length is not YAML\n"
+      "    primitives:\n"
+      "      - {name: peg, type: rod, radius: 2, length: `30}\n"
+      "  - name: LastPeg\n"
+      "    primitives:\n"
+      "      - {name: peg, type: rod, radius: 2, length: 30}\n";
+  PartsLibrary lib;
+  Diagnostics diags;
+  ASSERT_TRUE(lib.load_yaml_text(
+      text, "broken.yaml", dir_, diags, PartCategory::kOther, PartLoading::kOnFirstUse))
+      << diags.format();
+  EXPECT_EQ(lib.find("LastPeg")->build({}).primitives.size(), 1u);
+  try {
+    lib.find("BrokenPeg")->build({});
+    ADD_FAILURE() << "a part with a syntax error was built";
+  } catch (const std::logic_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("broken.yaml:11"), std::string::npos) << what;
+  }
+}
+
 // The built-in parts are built on first use, under one lock: threads that make them at once
 // (the server's workers) get the same parts.
 TEST(PartsLibrary, BuiltinPartsMadeFromTwoThreadsAreTheSame) {

@@ -66,6 +66,10 @@ class YamlReader {
   /// ("a design file must be a mapping with <expected>").
   std::optional<YAML::Node> parse_mapping(std::string_view text, std::string_view expected);
 
+  /// The text to parse is an excerpt of the file: its line k (0-based) is the file's line
+  /// `file_lines[k]` (1-based), so that positions name the file's own lines.
+  void set_line_numbers(std::vector<int> file_lines) { file_lines_ = std::move(file_lines); }
+
   /// Position of a node (1-based line and column); the file alone if yaml-cpp lost it.
   SourceLocation at(const YAML::Node& node) const;
   /// file:1:1, for things about the document as a whole.
@@ -123,7 +127,11 @@ class YamlReader {
   std::optional<KitTag> kit_tag(const YAML::Node& root, std::span<const std::string_view> known);
 
  private:
+  // The file's 1-based line of the parsed text's 0-based line `line`.
+  int file_line(int line) const;
+
   std::string file_;
+  std::vector<int> file_lines_;  // set_line_numbers(); empty: the text is the whole file
   Diagnostics& diags_;
   int errors_ = 0;
 };
