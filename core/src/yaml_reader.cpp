@@ -98,10 +98,13 @@ SourceLocation YamlReader::at(const YAML::Node& node) const {
 }
 
 int YamlReader::file_line(int line) const {
-  if (line >= 0 && static_cast<std::size_t>(line) < file_lines_.size()) {
-    return file_lines_[static_cast<std::size_t>(line)];
+  if (file_lines_.empty() || line < 0) return line + 1;
+  const auto k = static_cast<std::size_t>(line);
+  // Past the excerpt's end (an error found at the end of the text): the lines after its last.
+  if (k >= file_lines_.size()) {
+    return file_lines_.back() + 1 + static_cast<int>(k - file_lines_.size());
   }
-  return line + 1;
+  return file_lines_[k];
 }
 
 void YamlReader::error(DiagnosticCode code, std::string message, SourceLocation where) {

@@ -556,6 +556,9 @@ TEST_F(PartFiles, OnFirstUseSyntaxErrorNamesTheFilesLine) {
       "    description: its length is not YAML\n"
       "    primitives:\n"
       "      - {name: peg, type: rod, radius: 2, length: `30}\n"
+      "  - name: OpenPeg\n"
+      "    primitives:\n"
+      "      - {name: peg, type: rod, radius: 2, length: 30\n"
       "  - name: LastPeg\n"
       "    primitives:\n"
       "      - {name: peg, type: rod, radius: 2, length: 30}\n";
@@ -571,6 +574,14 @@ TEST_F(PartFiles, OnFirstUseSyntaxErrorNamesTheFilesLine) {
   } catch (const std::logic_error& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("broken.yaml:11"), std::string::npos) << what;
+  }
+  try {
+    lib.find("OpenPeg")->build({});
+    ADD_FAILURE() << "a part with an unclosed mapping was built";
+  } catch (const std::logic_error& e) {
+    // Found where the entry ends: the file's next line, where the next entry begins.
+    const std::string what = e.what();
+    EXPECT_NE(what.find("broken.yaml:15"), std::string::npos) << what;
   }
 }
 
