@@ -338,19 +338,18 @@ DistanceRange measure_distance_range(const Primitive& a,
         block_hi = std::max(block_hi, d2[j]);
       }
       // The first pair attaining a new extreme, as a scan in order would keep.
+      auto first_at = [&](double value) {
+        return start + static_cast<std::size_t>(
+                           std::find(d2.begin(), d2.begin() + static_cast<long>(count), value) -
+                           d2.begin());
+      };
       if (block_lo < row_lo) {
         row_lo = block_lo;
-        row_lo_j =
-            start + static_cast<std::size_t>(
-                        std::find(d2.begin(), d2.begin() + static_cast<long>(count), block_lo) -
-                        d2.begin());
+        row_lo_j = first_at(block_lo);
       }
       if (block_hi > row_hi) {
         row_hi = block_hi;
-        row_hi_j =
-            start + static_cast<std::size_t>(
-                        std::find(d2.begin(), d2.begin() + static_cast<long>(count), block_hi) -
-                        d2.begin());
+        row_hi_j = first_at(block_hi);
       }
     }
     if (row_lo < lo2) {
