@@ -251,12 +251,52 @@ void support(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* out) {
   ccdVec3Set(out, w.x(), w.y(), w.z());
 }
 
+// The point of a placed piece farthest along the world direction `direction`.
+Vec3 farthest(const Placed& p, const Vec3& direction) {
+  ccd_vec3_t dir, out;
+  ccdVec3Set(&dir, direction.x(), direction.y(), direction.z());
+  support(&p, &dir, &out);
+  return Vec3(out.v[0], out.v[1], out.v[2]);
+}
+
 void centre(const void* obj, ccd_vec3_t* out) {
   const Placed& p = *static_cast<const Placed*>(obj);
   ccdVec3Set(out, p.centre.x(), p.centre.y(), p.centre.z());
 }
 
+Placed placed(const std::vector<Vec3>& vertices,
+              const std::vector<Arc>& arcs,
+              const Vec3& centre,
+              const Mat4& t) {
+  const Mat3 r = t.topLeftCorner<3, 3>();
+  const Vec3 shift = t.topRightCorner<3, 1>();
+  return {&vertices, &arcs, r, shift, r * centre + shift};
+}
+
 }  // namespace
+
+DistanceBounds piece_distance_bounds(
+    const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb) {
+  const Body::Pieces& A = *a.pieces_;
+  const Body::Pieces& B = *b.pieces_;
+  const auto ia = static_cast<std::size_t>(pa);
+  const auto ib = static_cast<std::size_t>(pb);
+  const Placed pa_world = placed(A.vertices[ia], A.arcs[ia], A.centre[ia], ta);
+  const Placed pb_world = placed(B.vertices[ib], B.arcs[ib], B.centre[ib], tb);
+  const Vec3 centres = pb_world.centre - pa_world.centre;
+  if (!(centres.norm() > 1e-12)) {
+    return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  }
+  // Projected on a line, the pieces are intervals no farther apart than the pieces themselves
+  // (projection shortens every distance); overlapping, their overlap there is at least the
+  // depth that would separate them. The line of their centres is where that gap is usually
+  // widest. The two points that bound it are points of the pieces, so no farther apart than
+  // the pieces' nearest points are.
+  const Vec3 n = centres.normalized();
+  const Vec3 near_a = farthest(pa_world, n);
+  const Vec3 near_b = farthest(pb_world, -n);
+  return {n.dot(near_b - near_a), (near_b - near_a).norm()};
+}
 
 Proximity piece_distance(
     const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb) {
@@ -265,16 +305,8 @@ Proximity piece_distance(
   const auto ia = static_cast<std::size_t>(pa);
   const auto ib = static_cast<std::size_t>(pb);
   Proximity p;
-  const Placed pa_world{&A.vertices[ia],
-                        &A.arcs[ia],
-                        ta.topLeftCorner<3, 3>(),
-                        ta.topRightCorner<3, 1>(),
-                        ta.topLeftCorner<3, 3>() * A.centre[ia] + ta.topRightCorner<3, 1>()};
-  const Placed pb_world{&B.vertices[ib],
-                        &B.arcs[ib],
-                        tb.topLeftCorner<3, 3>(),
-                        tb.topRightCorner<3, 1>(),
-                        tb.topLeftCorner<3, 3>() * B.centre[ib] + tb.topRightCorner<3, 1>()};
+  const Placed pa_world = placed(A.vertices[ia], A.arcs[ia], A.centre[ia], ta);
+  const Placed pb_world = placed(B.vertices[ib], B.arcs[ib], B.centre[ib], tb);
   // Apart: GJK distance and nearest points, on each piece's exact support mapping (its
   // vertices and round rims). Overlaps go to libccd's MPR below. The tolerance of round pieces
   // is tight because their nearest points, and so the contact normal, converge only as the

@@ -57,14 +57,12 @@ bool ContactModel::excluded(int part_a, int piece_a, int part_b, int piece_b) co
   return false;
 }
 
-std::vector<PiecePair> ContactModel::watched_pairs(
-    const std::vector<Mat4>& frames,
-    const std::vector<bool>& moving,
-    double cutoff,
-    std::vector<double>* distances,
-    std::optional<std::chrono::steady_clock::time_point> deadline,
-    bool* cut_short) const {
-  std::vector<PiecePair> out;
+template <class Take>
+bool ContactModel::for_near_pairs(const std::vector<Mat4>& frames,
+                                  const std::vector<bool>& moving,
+                                  double cutoff,
+                                  std::optional<std::chrono::steady_clock::time_point> deadline,
+                                  Take take) const {
   const int n = part_count();
   // World boxes of every body and piece, once: the pair loops below only compare them.
   std::vector<collision::Box> whole(static_cast<std::size_t>(n));
@@ -84,10 +82,7 @@ std::vector<PiecePair> ContactModel::watched_pairs(
     for (int b = a + 1; b < n; ++b) {
       if (!has_body(b)) continue;
       if (!moving[static_cast<std::size_t>(a)] && !moving[static_cast<std::size_t>(b)]) continue;
-      if (deadline && std::chrono::steady_clock::now() > *deadline) {
-        if (cut_short) *cut_short = true;
-        return out;
-      }
+      if (deadline && std::chrono::steady_clock::now() > *deadline) return false;
       if (collision::box_gap(whole[static_cast<std::size_t>(a)],
                              whole[static_cast<std::size_t>(b)]) > cutoff) {
         continue;
@@ -96,21 +91,62 @@ std::vector<PiecePair> ContactModel::watched_pairs(
       const std::vector<collision::Box>& pb = pieces[static_cast<std::size_t>(b)];
       for (std::size_t i = 0; i < pa.size(); ++i) {
         for (std::size_t j = 0; j < pb.size(); ++j) {
-          // Bounds are loose (a box around a slanted wire): the true distance decides, so
-          // that only pairs that can meet become rows of the solve.
           if (collision::box_gap(pa[i], pb[j]) > cutoff) continue;
           const PiecePair p{a, static_cast<int>(i), b, static_cast<int>(j)};
           if (excluded(a, p.piece_a, b, p.piece_b)) continue;
-          if (cutoff > 0 || distances) {
-            const double d = distance(p, frames).distance;
-            if (cutoff > 0 && d > cutoff) continue;
-            if (distances) distances->push_back(d);
-          }
-          out.push_back(p);
+          take(p);
         }
       }
     }
   }
+  return true;
+}
+
+std::vector<PiecePair> ContactModel::watched_pairs(
+    const std::vector<Mat4>& frames,
+    const std::vector<bool>& moving,
+    double cutoff,
+    std::vector<double>* distances,
+    std::optional<std::chrono::steady_clock::time_point> deadline,
+    bool* cut_short) const {
+  std::vector<PiecePair> out;
+  const bool whole = for_near_pairs(frames, moving, cutoff, deadline, [&](const PiecePair& p) {
+    // Bounds are loose (a box around a slanted wire): the true distance decides, so that only
+    // pairs that can meet become rows of the solve. Two support queries put most pairs that
+    // boxes cannot tell apart beyond the cut-off; the exact query (GJK's dozens of them) is for
+    // the rest.
+    if (cutoff > 0 || distances) {
+      if (distance_bounds(p, frames).lower > cutoff) return;
+      const double d = distance(p, frames).distance;
+      if (d > cutoff) return;
+      if (distances) distances->push_back(d);
+    }
+    out.push_back(p);
+  });
+  if (!whole && cut_short) *cut_short = true;
+  return out;
+}
+
+std::vector<PiecePair> ContactModel::watched_pairs(const std::vector<Mat4>& frames,
+                                                   const std::vector<bool>& moving,
+                                                   double cutoff,
+                                                   double& deepest) const {
+  std::vector<PiecePair> out;
+  deepest = 0;
+  for_near_pairs(frames, moving, cutoff, std::nullopt, [&](const PiecePair& p) {
+    const collision::DistanceBounds bounds = distance_bounds(p, frames);
+    if (bounds.lower > cutoff) return;
+    // Certainly apart (a positive lower bound) and certainly within the cut-off (an upper
+    // bound inside it): watched, and no part of the depth; no exact query needed.
+    if (bounds.lower > 0 && bounds.upper <= cutoff) {
+      out.push_back(p);
+      return;
+    }
+    const double d = distance(p, frames).distance;
+    if (d > cutoff) return;
+    deepest = std::max(deepest, -d);
+    out.push_back(p);
+  });
   return out;
 }
 
@@ -151,6 +187,16 @@ collision::Proximity ContactModel::distance(const PiecePair& p,
                                    body(p.part_b),
                                    p.piece_b,
                                    frames[static_cast<std::size_t>(p.part_b)]);
+}
+
+collision::DistanceBounds ContactModel::distance_bounds(const PiecePair& p,
+                                                        const std::vector<Mat4>& frames) const {
+  return collision::piece_distance_bounds(body(p.part_a),
+                                          p.piece_a,
+                                          frames[static_cast<std::size_t>(p.part_a)],
+                                          body(p.part_b),
+                                          p.piece_b,
+                                          frames[static_cast<std::size_t>(p.part_b)]);
 }
 
 double ContactModel::gap_bound(const PiecePair& p, const std::vector<Mat4>& frames) const {

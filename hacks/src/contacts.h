@@ -37,7 +37,9 @@ class ContactModel {
   /// sides: a hook and the rod it hangs on touch by design, and so may what they are joined to
   /// right there (the basket wall under the rim a hook wraps, the bar of a link at its hook);
   /// the connection itself keeps them where they are.
-  /// With `distances`, each returned pair's signed distance is appended to it (computed once).
+  /// With `distances`, each returned pair's signed distance is appended to it (computed once);
+  /// then, and whenever `cutoff` > 0, only pairs whose distance is within `cutoff` are
+  /// returned (with neither, all pairs whose bounds overlap).
   /// Past `deadline` (checked per pair of parts) it stops and sets `*cut_short`.
   std::vector<PiecePair> watched_pairs(
       const std::vector<Mat4>& frames,
@@ -46,6 +48,14 @@ class ContactModel {
       std::vector<double>* distances = nullptr,
       std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt,
       bool* cut_short = nullptr) const;
+
+  /// The same pairs for `cutoff` > 0, and in `deepest` how deep the deepest of them overlaps
+  /// (0 when none does): pairs certainly apart and certainly within the cut-off need no exact
+  /// query.
+  std::vector<PiecePair> watched_pairs(const std::vector<Mat4>& frames,
+                                       const std::vector<bool>& moving,
+                                       double cutoff,
+                                       double& deepest) const;
 
   /// For each pair of parts (at least one in `moving`) whose bodies come within `cutoff` mm at
   /// `frames`, apart from the pieces a connection joins: the smallest signed distance.
@@ -63,11 +73,22 @@ class ContactModel {
 
   /// Signed distance of a pair at `frames` (negative: interpenetration depth).
   collision::Proximity distance(const PiecePair& p, const std::vector<Mat4>& frames) const;
+  /// Bounds of the pair's signed distance (collision::piece_distance_bounds).
+  collision::DistanceBounds distance_bounds(const PiecePair& p,
+                                            const std::vector<Mat4>& frames) const;
   /// A lower bound of the pair's distance (0 when their bounds overlap).
   double gap_bound(const PiecePair& p, const std::vector<Mat4>& frames) const;
 
  private:
   bool excluded(int part_a, int piece_a, int part_b, int piece_b) const;
+  // Calls take(pair) for each piece pair between two parts (at least one moving) whose bounds
+  // come within `cutoff` and that no connection joins; false when cut short by `deadline`.
+  template <class Take>
+  bool for_near_pairs(const std::vector<Mat4>& frames,
+                      const std::vector<bool>& moving,
+                      double cutoff,
+                      std::optional<std::chrono::steady_clock::time_point> deadline,
+                      Take take) const;
 
   std::vector<collision::Body> bodies_;
   // Per connection: (part, primitive) of each side.

@@ -302,7 +302,8 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     frames_ = a.all_part_frames<double>(x_.data(), moving_, fixed_frames_);
     cost_.fill<double>(x_, frames_, values_.data());
     // Contact rows: −signed distance of each watched pair; pairs whose bounds are apart by
-    // more than kFar need no exact query (their row is far from binding and its slope unused).
+    // more than kFar need no exact query (their row is far from binding and its slope unused):
+    // first their boxes, then the pieces along the line of their centres.
     constexpr double kFar = 2.0;
     near_.clear();
     if (contacts && !problem_.watched.empty()) {
@@ -313,7 +314,8 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
       for (std::size_t i = 0; i < problem_.watched.size(); ++i) {
         const PiecePair& w = problem_.watched[i];
         const std::size_t row = static_cast<std::size_t>(first) + i;
-        const double gap = problem_.contacts->gap_bound(w, mats);
+        double gap = problem_.contacts->gap_bound(w, mats);
+        if (gap <= kFar) gap = std::max(gap, problem_.contacts->distance_bounds(w, mats).lower);
         if (gap > kFar) {
           values_[row] = -gap;
           continue;

@@ -91,10 +91,10 @@ void watch_contacts(Problem& p, const std::vector<double>& x, double* deepest) {
   p.watched.clear();
   if (deepest) *deepest = 0;
   if (!p.contacts) return;
-  std::vector<double> distances;
+  double depth = 0;
   p.watched = p.contacts->watched_pairs(
-      p.assembly->part_frames(x), moving_parts(p), kContactWatchMm, deepest ? &distances : nullptr);
-  for (double d : distances) *deepest = std::max(*deepest, -d);
+      p.assembly->part_frames(x), moving_parts(p), kContactWatchMm, depth);
+  if (deepest) *deepest = depth;
 }
 
 Overlap deepest_overlap(const Problem& p, const std::vector<double>& x, bool parts_only) {

@@ -53,6 +53,9 @@ struct Arc {
 class Body;
 Proximity piece_distance(
     const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
+struct DistanceBounds;
+DistanceBounds piece_distance_bounds(
+    const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
 
 class Body {
  public:
@@ -80,6 +83,8 @@ class Body {
 
  private:
   friend Proximity piece_distance(
+      const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
+  friend DistanceBounds piece_distance_bounds(
       const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
   struct Pieces;
   std::shared_ptr<const Pieces> pieces_;
@@ -118,6 +123,18 @@ Proximity piece_distance(
 /// A lower bound of the distance between the two pieces from their world-aligned bounding
 /// boxes (0 when the boxes overlap): pairs farther apart than a cut-off need no exact query.
 double piece_gap_bound(
+    const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
+
+/// Bounds of the signed distance between two pieces from two support queries along the line
+/// between their centres, where an exact distance takes GJK's dozens: `lower` is how far apart
+/// they are along that line (at most the distance; when they overlap, at most minus the
+/// depth), `upper` the distance between the two points of theirs that bound that gap (at least
+/// the distance). Pairs the bounds place on one side of a cut-off need no exact query.
+struct DistanceBounds {
+  double lower = 0;
+  double upper = 0;
+};
+DistanceBounds piece_distance_bounds(
     const Body& a, int pa, const Mat4& ta, const Body& b, int pb, const Mat4& tb);
 
 /// A world-aligned box.
