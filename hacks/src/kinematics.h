@@ -301,10 +301,12 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
     values_.assign(static_cast<std::size_t>(rows_), 0.0);
     frames_ = a.all_part_frames<double>(x_.data(), moving_, fixed_frames_);
     cost_.fill<double>(x_, frames_, values_.data());
-    // Contact rows: −signed distance of each watched pair; pairs whose bounds are apart by
-    // more than kFar need no exact query (their row is far from binding and its slope unused):
-    // first their boxes, then the pieces along the line of their centres.
-    constexpr double kFar = 2.0;
+    // Contact rows: −signed distance of each watched pair. A row binds only within
+    // kInequalityMargin of touching, and only binding rows are read (their values, slopes and
+    // multipliers), so a pair whose bounds put it farther apart than kApart needs no exact
+    // query: its row gets the bound, as far from binding as its distance is. First their
+    // boxes, then the pieces along the line of their centres.
+    constexpr double kApart = 1000 * kInequalityMargin;
     near_.clear();
     if (contacts && !problem_.watched.empty()) {
       std::vector<Mat4> mats;
@@ -315,8 +317,8 @@ class AnalyticEvaluator : public solvers::ManifoldProblem {
         const PiecePair& w = problem_.watched[i];
         const std::size_t row = static_cast<std::size_t>(first) + i;
         double gap = problem_.contacts->gap_bound(w, mats);
-        if (gap <= kFar) gap = std::max(gap, problem_.contacts->distance_bounds(w, mats).lower);
-        if (gap > kFar) {
+        if (gap <= kApart) gap = std::max(gap, problem_.contacts->distance_bounds(w, mats).lower);
+        if (gap > kApart) {
           values_[row] = -gap;
           continue;
         }
