@@ -181,31 +181,16 @@ std::vector<ContactModel::PartPairDistance> ContactModel::closest_parts(
 
 collision::Proximity ContactModel::distance(const PiecePair& p,
                                             const std::vector<Mat4>& frames) const {
-  return collision::piece_distance(body(p.part_a),
-                                   p.piece_a,
-                                   frames[static_cast<std::size_t>(p.part_a)],
-                                   body(p.part_b),
-                                   p.piece_b,
-                                   frames[static_cast<std::size_t>(p.part_b)]);
+  return on_pair(p, frames, collision::piece_distance);
 }
 
 collision::DistanceBounds ContactModel::distance_bounds(const PiecePair& p,
                                                         const std::vector<Mat4>& frames) const {
-  return collision::piece_distance_bounds(body(p.part_a),
-                                          p.piece_a,
-                                          frames[static_cast<std::size_t>(p.part_a)],
-                                          body(p.part_b),
-                                          p.piece_b,
-                                          frames[static_cast<std::size_t>(p.part_b)]);
+  return on_pair(p, frames, collision::piece_distance_bounds);
 }
 
 double ContactModel::gap_bound(const PiecePair& p, const std::vector<Mat4>& frames) const {
-  return collision::piece_gap_bound(body(p.part_a),
-                                    p.piece_a,
-                                    frames[static_cast<std::size_t>(p.part_a)],
-                                    body(p.part_b),
-                                    p.piece_b,
-                                    frames[static_cast<std::size_t>(p.part_b)]);
+  return on_pair(p, frames, collision::piece_gap_bound);
 }
 
 }  // namespace fabkit::hacks::detail

@@ -81,6 +81,16 @@ class ContactModel {
 
  private:
   bool excluded(int part_a, int piece_a, int part_b, int piece_b) const;
+  // A collision query on the pair's two pieces where `frames` put them.
+  template <class Query>
+  auto on_pair(const PiecePair& p, const std::vector<Mat4>& frames, Query query) const {
+    return query(body(p.part_a),
+                 p.piece_a,
+                 frames[static_cast<std::size_t>(p.part_a)],
+                 body(p.part_b),
+                 p.piece_b,
+                 frames[static_cast<std::size_t>(p.part_b)]);
+  }
   // Calls take(pair) for each piece pair between two parts (at least one moving) whose bounds
   // come within `cutoff` and that no connection joins; false when cut short by `deadline`.
   template <class Take>
