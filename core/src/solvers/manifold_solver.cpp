@@ -463,7 +463,9 @@ bool ManifoldSolver::project(Point& p) {
     Eigen::VectorXd z = p.z;
     for (std::size_t i = 0; i < free.size(); ++i) z[free[i]] += delta[static_cast<int>(i)];
     const double before = p.h.norm();
-    p = evaluate(z.cwiseMax(lo_).cwiseMin(hi_));
+    // Values first: the next iteration, or the caller if it keeps the point, completes it (a
+    // rejected trial step never needs the derivatives at its projection).
+    p = evaluate_values(z.cwiseMax(lo_).cwiseMin(hi_));
     if (p.h.norm() > before && iter > 3) return false;
   }
   return p.h.size() == 0 || p.h.cwiseAbs().maxCoeff() < options_.projection_tolerance;
@@ -614,6 +616,7 @@ ManifoldSolver::Result ManifoldSolver::fit(const Eigen::VectorXd& z0,
     out.z = cur.z;
     return out;
   }
+  complete(cur);
   double mu = 1e-4;
   int it = 0;
   Clock::duration last{};
@@ -800,6 +803,7 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     out.z = cur.z;
     return out;
   }
+  complete(cur);
   double radius = kInitialRadiusShare * options_.max_step;
   int it = 0;
   int motions = n_;  // free motions at the last iteration

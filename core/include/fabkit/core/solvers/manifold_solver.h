@@ -243,7 +243,8 @@ class ManifoldSolver {
   static Eigen::MatrixXd reduced(const Active& act, const Eigen::MatrixXd& m);
   /// m·B·Z (m itself when BZ is the identity).
   static Eigen::MatrixXd along_motions(const Active& act, const Eigen::MatrixXd& m);
-  /// Minimum-norm Gauss-Newton back onto h = 0, moving only coordinates off their bounds.
+  /// Minimum-norm Gauss-Newton back onto h = 0, moving only coordinates off their bounds; p
+  /// may come back without its derivatives (complete() adds them).
   bool project(Point& p);
   /// The curvature of the potential along the allowed motions at p (empty when the deadline
   /// passes before it is known).
