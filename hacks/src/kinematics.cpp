@@ -32,9 +32,19 @@ class TwistRecorder {
     frame_.rotate_x(deg.a);
     return *this;
   }
+  TwistRecorder& rotate_x(const Jet3& deg, const Jet3& c, const Jet3& s) {
+    turn(0, deg);
+    frame_.rotate_x(deg.a, c.a, s.a);
+    return *this;
+  }
   TwistRecorder& rotate_y(const Jet3& deg) {
     turn(1, deg);
     frame_.rotate_y(deg.a);
+    return *this;
+  }
+  TwistRecorder& rotate_y(const Jet3& deg, const Jet3& c, const Jet3& s) {
+    turn(1, deg);
+    frame_.rotate_y(deg.a, c.a, s.a);
     return *this;
   }
   TwistRecorder& rotate_z(const Jet3& deg) {

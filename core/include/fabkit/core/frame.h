@@ -156,8 +156,10 @@ struct Rigid {
   Rigid& rotate_x(const T& deg) {
     using std::cos;
     using std::sin;
-    const T c = cos(deg * T(kDegToRad));
-    const T s = sin(deg * T(kDegToRad));
+    return rotate_x(deg, cos(deg * T(kDegToRad)), sin(deg * T(kDegToRad)));
+  }
+  /// this ← this · Rx(deg), whose cosine c and sine s the caller already has.
+  Rigid& rotate_x(const T& /*deg*/, const T& c, const T& s) {
     const Vec3T<T> c1 = R.col(1);
     const Vec3T<T> c2 = R.col(2);
     R.col(1) = c1 * c + c2 * s;
@@ -168,8 +170,10 @@ struct Rigid {
   Rigid& rotate_y(const T& deg) {
     using std::cos;
     using std::sin;
-    const T c = cos(deg * T(kDegToRad));
-    const T s = sin(deg * T(kDegToRad));
+    return rotate_y(deg, cos(deg * T(kDegToRad)), sin(deg * T(kDegToRad)));
+  }
+  /// this ← this · Ry(deg), whose cosine c and sine s the caller already has.
+  Rigid& rotate_y(const T& /*deg*/, const T& c, const T& s) {
     const Vec3T<T> c0 = R.col(0);
     const Vec3T<T> c2 = R.col(2);
     R.col(0) = c0 * c - c2 * s;

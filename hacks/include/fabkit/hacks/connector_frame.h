@@ -39,7 +39,11 @@ void apply_connector(ConnectorKind kind, const PrimitiveShape& s, const T* q, Fr
                                       // Rx(-θ)
       const T r(s.arc_radius - s.thickness);
       const T th = q[0] * deg;
-      m.translate(zero, -r * sin(th), -r * cos(th)).rotate_x(-q[0]);
+      // Rx(-θ) has cosine cos θ and sine −sin θ (the same doubles: cos is even and sin odd to
+      // the last bit), so the angle's sine and cosine are taken once.
+      const T cos_th = cos(th);
+      const T sin_th = sin(th);
+      m.translate(zero, -r * sin_th, -r * cos_th).rotate_x(-q[0], cos_th, -sin_th);
       if (kind == ConnectorKind::kHookFlex || kind == ConnectorKind::kRingFlex) {
         m.rotate_z(q[1] - T(90));
       }
@@ -52,10 +56,12 @@ void apply_connector(ConnectorKind kind, const PrimitiveShape& s, const T* q, Fr
     case ConnectorKind::kTubeCenterline: {  // (t, θ)
       const T rho(kind == ConnectorKind::kTube ? s.inner_radius + s.thickness : s.inner_radius);
       const T th = q[1] * deg;
+      const T cos_th = cos(th);
+      const T sin_th = sin(th);
       m.translate(zero, zero, (q[0] - T(0.5)) * T(s.length))
           .rotate_x(T(-90))
-          .translate(-rho * sin(th), zero, -rho * cos(th))
-          .rotate_y(q[1]);
+          .translate(-rho * sin_th, zero, -rho * cos_th)
+          .rotate_y(q[1], cos_th, sin_th);
       return;
     }
     case ConnectorKind::kClip:  // (t)
@@ -72,9 +78,13 @@ void apply_connector(ConnectorKind kind, const PrimitiveShape& s, const T* q, Fr
       const T big_r(s.radius);
       const T th = q[0] * deg;
       const T ph = q[1] * deg;
-      m.translate(big_r * sin(ph), big_r * cos(ph) * sin(th), -big_r * cos(ph) * cos(th))
-          .rotate_y(q[1])
-          .rotate_x(-q[0])
+      const T cos_th = cos(th);
+      const T sin_th = sin(th);
+      const T cos_ph = cos(ph);
+      const T sin_ph = sin(ph);
+      m.translate(big_r * sin_ph, big_r * cos_ph * sin_th, -big_r * cos_ph * cos_th)
+          .rotate_y(q[1], cos_ph, sin_ph)
+          .rotate_x(-q[0], cos_th, -sin_th)
           .rotate_z(q[2]);
       return;
     }
