@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "convex_pieces.h"
+#include "fabkit/core/text.h"
 
 namespace fabkit::hacks {
 namespace {
@@ -64,6 +65,17 @@ std::string_view to_string(PartCategory c) {
       return "other";
   }
   return "other";
+}
+
+std::optional<PartCategory> category_named(std::string_view name) {
+  const std::string lower = ascii_lower(name);
+  for (PartCategory c : {PartCategory::kEnvironment,
+                         PartCategory::kHack,
+                         PartCategory::kBoth,
+                         PartCategory::kOther}) {
+    if (lower == to_string(c)) return c;
+  }
+  return std::nullopt;
 }
 
 PrimitiveId Part::find_primitive(std::string_view name) const {

@@ -219,13 +219,7 @@ class PartFileReader {
       Part part;
       part.type_name = std::string(id.name);
       part.description = std::string(id.description);
-      part.category = PartCategory::kOther;
-      for (PartCategory pc : {PartCategory::kEnvironment,
-                              PartCategory::kHack,
-                              PartCategory::kBoth,
-                              PartCategory::kOther}) {
-        if (id.category == to_string(pc)) part.category = pc;
-      }
+      part.category = category_named(id.category).value_or(PartCategory::kOther);
       std::vector<std::string> aliases(id.aliases.begin(), id.aliases.end());
       out.push_back({std::move(part), std::move(aliases), with_lines(f, [&](std::size_t i) {
                        return i >= e.first && i < e.end;
@@ -319,17 +313,9 @@ class PartFileReader {
     }
     if (const YAML::Node cn = node["category"]) {
       if (const auto c = in_.string(cn, "category", 64)) {
-        bool found = false;
-        for (PartCategory pc : {PartCategory::kEnvironment,
-                                PartCategory::kHack,
-                                PartCategory::kBoth,
-                                PartCategory::kOther}) {
-          if (ascii_lower(*c) == to_string(pc)) {
-            part.category = pc;
-            found = true;
-          }
-        }
-        if (!found) {
+        if (const std::optional<PartCategory> named = category_named(*c)) {
+          part.category = *named;
+        } else {
           in_.error(codes::kUnknownName,
                     fmt::format("unknown category '{}'; valid: environment, hack, both, other",
                                 excerpt(*c, 40)),

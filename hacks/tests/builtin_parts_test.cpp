@@ -405,6 +405,17 @@ TEST(BuiltinParts, CategoryNames) {
   EXPECT_EQ(to_string(PartCategory::kHack), "hack");
   EXPECT_EQ(to_string(PartCategory::kBoth), "both");
   EXPECT_EQ(to_string(PartCategory::kOther), "other");
+  // Read back in any case; another word is no category.
+  for (PartCategory c : {PartCategory::kEnvironment,
+                         PartCategory::kHack,
+                         PartCategory::kBoth,
+                         PartCategory::kOther}) {
+    EXPECT_EQ(category_named(to_string(c)), c);
+  }
+  EXPECT_EQ(category_named("Environment"), PartCategory::kEnvironment);
+  EXPECT_EQ(category_named("HACK"), PartCategory::kHack);
+  EXPECT_EQ(category_named("hacks"), std::nullopt);
+  EXPECT_EQ(category_named(""), std::nullopt);
 }
 
 TEST(BuiltinParts, ParamTurnbuckle) {

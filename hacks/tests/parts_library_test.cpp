@@ -180,6 +180,30 @@ TEST_F(PartFiles, MissingPrimitives) {
                5);
 }
 
+// A category that is none of the four is named with its line; one in another case is read.
+TEST_F(PartFiles, UnknownCategory) {
+  expect_error("parts:\n" + kGood +
+                   "  - name: Widget\n"
+                   "    category: gadget\n"
+                   "    primitives:\n"
+                   "      - {name: peg, type: rod, radius: 2, length: 30}\n",
+               codes::kUnknownName,
+               6);
+  PartsLibrary lib;
+  Diagnostics diags;
+  ASSERT_TRUE(
+      lib.load_yaml_text("parts:\n"
+                         "  - name: Hanger\n"
+                         "    category: Hack\n"
+                         "    primitives:\n"
+                         "      - {name: peg, type: rod, radius: 2, length: 30}\n",
+                         "hack.yaml",
+                         dir_,
+                         diags))
+      << diags.format();
+  EXPECT_EQ(lib.find("Hanger")->category, PartCategory::kHack);
+}
+
 TEST_F(PartFiles, UnknownPrimitiveType) {
   expect_error(
       "parts:\n"

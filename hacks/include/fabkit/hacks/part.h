@@ -2,6 +2,7 @@
 /// Parts: annotated everyday objects carrying connector primitives (paper §3).
 
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +22,8 @@ enum class PartCategory {
   kOther,        ///< used by examples or the study but in neither list
 };
 std::string_view to_string(PartCategory c);
+/// The category a name spells (any case), as to_string writes it; nothing for another word.
+std::optional<PartCategory> category_named(std::string_view name);
 
 /// A part: its primitives at fixed frames in the part's coordinates, its mass properties and
 /// a display mesh. Values, cheap to copy apart from the mesh.
