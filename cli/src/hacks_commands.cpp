@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "embedded_examples.h"
 #include "fabkit/core/file_io.h"
+#include "fabkit/core/parallel.h"
 #include "fabkit/hacks/deadline.h"
 #include "fabkit/hacks/design_file.h"
 #include "fabkit/hacks/parts_library.h"
@@ -289,7 +290,16 @@ int solve_design(Design design, const DesignSettings& settings, bool write) {
 
 }  // namespace
 
+namespace {
+// The solver's helper threads are started before the design is read, so that they are running
+// by the time step 1 needs them (a new thread can wait milliseconds for its first turn).
+void start_solver_threads() {
+  fabkit::start_helper_threads(hacks::SolveOptions{}.threads);
+}
+}  // namespace
+
 int run_solve(const DesignSettings& settings) {
+  start_solver_threads();
   Diagnostics d;
   const auto text = read_input_file(settings.design, "design file", d);
   if (!text) {
@@ -302,12 +312,14 @@ int run_solve(const DesignSettings& settings) {
 }
 
 int hacks_build(const DesignInput& input) {
+  start_solver_threads();
   const std::optional<hacks::PartsLibrary> library = library_with(input.settings.part_files);
   if (!library) return kExitBadInput;
   return solve_design(load(input, *library), input.settings, true);
 }
 
 int run_demo(const DemoSettings& settings) {
+  start_solver_threads();
   std::printf("fabkit demo: the bird feeder hack of the FabHacks paper (Fig. 1, left)\n\n");
   Design design =
       hacks::load_design_text(kDemoDesign, kDemoDesignName, hacks::PartsLibrary::builtin());

@@ -296,6 +296,7 @@ std::string remedy_for(const Assembly& assembly,
 }  // namespace
 
 SolveResult solve(const Assembly& assembly, const SolveOptions& options) {
+  start_helper_threads(options.threads);  // kept between solves (run_in_parallel)
   SolveResult result = solve_placed(assembly, options);
   // Step 1's random starts close their cycles with one start of the closure search (most close
   // locally; a miss costs a start, not the answer). Where the target was not reached, the last
