@@ -1,7 +1,13 @@
 #include "fabkit/core/parallel.h"
 
+#ifdef __linux__
+#include <pthread.h>
+#include <sched.h>
+#endif
+
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <exception>
 #include <memory>
@@ -19,6 +25,61 @@ int thread_count(int threads) {
 
 namespace {
 
+// How long a waiting thread polls before it sleeps: a helper between two calls, a caller for
+// its helpers. On the two-core VM the benchmarks run on, a thread asleep on a condition
+// variable usually woke within 0.1 ms but one wake in six took 1-4 ms (at the other core's
+// next scheduler tick), and the solver's parallel sections, and the gaps between them, are a
+// few milliseconds long. Polling yields, so any other thread that is ready runs first.
+constexpr std::chrono::milliseconds kPollFor{20};
+
+// Polls `ready` for up to kPollFor; whether it became true.
+template <typename Ready>
+bool poll(Ready ready) {
+  const auto until = std::chrono::steady_clock::now() + kPollFor;
+  for (int i = 0;; ++i) {
+    if (ready()) return true;
+    if ((i & 63) == 63 && std::chrono::steady_clock::now() >= until) return false;
+    std::this_thread::yield();
+  }
+}
+
+// A new thread is queued on its creator's core, where it waits until the scheduler moves it
+// (up to a tick: 4 ms on the VM above, where a third of fabkit solves' first parallel section
+// began that late). A helper is started on another of the cores its creator may use and, once
+// running, lets itself run on any of them again.
+class Cores {
+ public:
+  Cores() {
+#ifdef __linux__
+    known_ = sched_getaffinity(0, sizeof allowed_, &allowed_) == 0;
+#endif
+  }
+  // Sends `t`, not yet running, to a core other than the calling thread's.
+  void start_elsewhere(std::thread& t) const {
+#ifdef __linux__
+    const int here = sched_getcpu();
+    if (!known_ || here < 0) return;
+    cpu_set_t others = allowed_;
+    CPU_CLR(here, &others);
+    if (CPU_COUNT(&others) > 0) pthread_setaffinity_np(t.native_handle(), sizeof others, &others);
+#else
+    (void)t;
+#endif
+  }
+  // Lets the calling thread run on every core its creator could.
+  void run_anywhere() const {
+#ifdef __linux__
+    if (known_) pthread_setaffinity_np(pthread_self(), sizeof allowed_, &allowed_);
+#endif
+  }
+
+ private:
+#ifdef __linux__
+  cpu_set_t allowed_{};
+  bool known_ = false;
+#endif
+};
+
 // One call's pieces of work, shared by its caller and the helpers it enlisted. The caller
 // returns only once every enlisted helper has left it.
 struct Batch {
@@ -26,9 +87,9 @@ struct Batch {
   const std::function<void(int)>* work = nullptr;
   std::atomic<int> next{0};
   std::atomic<bool> failed{false};
-  std::mutex mutex;  // guards first_error and remaining
+  std::mutex mutex;  // guards first_error; remaining changes under it
   std::exception_ptr first_error;
-  int remaining = 0;  // helpers enlisted that have not left
+  std::atomic<int> remaining{0};  // helpers enlisted that have not left
   std::condition_variable left;
 
   void take() {
@@ -44,18 +105,24 @@ struct Batch {
   }
 
   void leave() {
-    // Notified under the lock: the caller may destroy the batch as soon as it can see
-    // remaining at 0, which is only after this unlocks.
+    // Under the lock, which the caller takes before it returns: the batch outlives this.
     const std::lock_guard lock(mutex);
     if (--remaining == 0) left.notify_one();
   }
+
+  void wait_for_helpers() {
+    if (!poll([&] { return remaining.load() == 0; })) {
+      std::unique_lock lock(mutex);
+      left.wait(lock, [&] { return remaining.load() == 0; });
+      return;
+    }
+    const std::lock_guard lock(mutex);  // the last helper has let go of it
+  }
 };
 
-// Threads kept for the whole process and handed each call's batch. A new thread is slow to
-// start on some machines: on the two-core VM the benchmarks run on, one began 0.5–5 ms after it
-// was created (at the other core's next scheduler tick) while a thread already running there,
-// asleep on a condition variable, woke within 0.02 ms — and the solver's parallel sections are
-// a few milliseconds long. Never destroyed: helpers wait in it until the process ends.
+// Threads kept for the whole process and handed each call's batch: a new thread is slow to
+// start on some machines (on the VM above one began 0.5-5 ms after it was created). Never
+// destroyed: helpers wait in it until the process ends.
 class HelperPool {
  public:
   static HelperPool& instance() {
@@ -78,7 +145,7 @@ class HelperPool {
       if (idle_.empty() && !start_one()) break;
       Helper* h = idle_.back();
       idle_.pop_back();
-      h->batch = &batch;
+      h->batch.store(&batch);
       h->wake.notify_one();
       ++enlisted;
     }
@@ -87,7 +154,7 @@ class HelperPool {
 
  private:
   struct Helper {
-    Batch* batch = nullptr;  // the batch handed to it; null while idle
+    std::atomic<Batch*> batch{nullptr};  // the batch handed to it (under mutex_); null if idle
     std::condition_variable wake;
   };
 
@@ -96,7 +163,9 @@ class HelperPool {
     auto helper = std::make_unique<Helper>();
     Helper* h = helper.get();
     try {
-      std::thread([this, h] { serve(*h); }).detach();
+      std::thread helper_thread([this, h] { serve(*h); });
+      cores_.start_elsewhere(helper_thread);
+      helper_thread.detach();
     } catch (const std::system_error&) {
       return false;  // no more threads: the caller does the work itself
     }
@@ -106,21 +175,24 @@ class HelperPool {
   }
 
   void serve(Helper& h) {
-    std::unique_lock lock(mutex_);
+    cores_.run_anywhere();
     for (;;) {
-      h.wake.wait(lock, [&] { return h.batch != nullptr; });
-      Batch* batch = h.batch;
-      lock.unlock();
+      if (!poll([&] { return h.batch.load() != nullptr; })) {
+        std::unique_lock lock(mutex_);
+        h.wake.wait(lock, [&] { return h.batch.load() != nullptr; });
+      }
+      Batch* batch = h.batch.load();
       batch->take();
-      lock.lock();
-      h.batch = nullptr;
-      idle_.push_back(&h);
-      lock.unlock();
+      {
+        const std::lock_guard lock(mutex_);
+        h.batch.store(nullptr);
+        idle_.push_back(&h);
+      }
       batch->leave();  // the last touch of the batch
-      lock.lock();
     }
   }
 
+  const Cores cores_;  // those of the thread that first used the pool
   std::mutex mutex_;
   std::vector<std::unique_ptr<Helper>> all_;
   std::vector<Helper*> idle_;
@@ -146,10 +218,7 @@ void run_in_parallel(int count, int threads, const std::function<void(int)>& wor
     batch.remaining = HelperPool::instance().enlist(batch, workers - 1);
   }
   batch.take();
-  {
-    std::unique_lock lock(batch.mutex);
-    batch.left.wait(lock, [&] { return batch.remaining == 0; });
-  }
+  batch.wait_for_helpers();
   if (batch.first_error) std::rethrow_exception(batch.first_error);
 }
 
