@@ -156,25 +156,29 @@ class HelperPool {
   struct Helper {
     std::atomic<Batch*> batch{nullptr};  // the batch handed to it (under mutex_); null if idle
     std::condition_variable wake;
+    std::atomic<bool> placed{false};  // sent to its core: it may undo that now
   };
 
   // Called with mutex_ held; the new helper is idle.
   bool start_one() {
-    auto helper = std::make_unique<Helper>();
-    Helper* h = helper.get();
+    all_.push_back(std::make_unique<Helper>());  // owned before its thread can use it
+    Helper* h = all_.back().get();
     try {
       std::thread helper_thread([this, h] { serve(*h); });
       cores_.start_elsewhere(helper_thread);
+      h->placed = true;
       helper_thread.detach();
     } catch (const std::system_error&) {
+      all_.pop_back();
       return false;  // no more threads: the caller does the work itself
     }
-    all_.push_back(std::move(helper));
     idle_.push_back(h);
     return true;
   }
 
   void serve(Helper& h) {
+    // Not before its creator has placed it (else that would pin it for good).
+    while (!h.placed.load()) std::this_thread::yield();
     cores_.run_anywhere();
     for (;;) {
       if (!poll([&] { return h.batch.load() != nullptr; })) {

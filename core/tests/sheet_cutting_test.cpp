@@ -31,7 +31,7 @@ TEST(SheetCutting, KerfAndTrimKeepPiecesApartAndInside) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> len(80, 900), wid(60, 500);
   for (int i = 0; i < 40; ++i)
-    pieces.push_back({"p" + std::to_string(i), len(rng), wid(rng), i % 3 != 0});
+    pieces.push_back({std::string("p") + std::to_string(i), len(rng), wid(rng), i % 3 != 0});
   const SheetSpec sheet{2440, 1220, 3.2, 6};
   Diagnostics d;
   const auto plan = plan_sheets(pieces, sheet, d);

@@ -19,7 +19,8 @@ void start_helper_threads(int threads);
 
 /// Calls `work(i)` for every i in [0, count) on up to `threads` threads, the calling thread
 /// among them (the others are kept between calls: start_helper_threads); returns when all have
-/// returned. An exception stops the handing out of further
+/// returned. An index is taken only after every lower one was, each by a thread that runs it
+/// (so a piece may wait for a lower one). An exception stops the handing out of further
 /// indices and is rethrown here (the first one thrown).
 void run_in_parallel(int count, int threads, const std::function<void(int)>& work);
 
