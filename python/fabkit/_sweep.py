@@ -35,14 +35,19 @@ class Variant:
         return f"<{self.params}: {verdict}, target off by {pos:.1f} mm, {rot:.1f}°>"
 
 
-def sweep(build, grid, threads=None, progress=True):
+def sweep(build, grid, threads=None, progress=True, remedies=False):
     """Builds ``build(**params)`` for every combination of ``grid`` (a dict from parameter
     name to a list of values), solves them all on C++ threads, and returns the variants
     ranked: stable ones first, then by design error (position mm + tilt degrees + twist
     degrees, the twist left out where the target turns freely about the vertical).
 
     A variant whose program raises fabkit.Error (a connect that cannot be made) is left out
-    and reported in the returned list's ``rejected`` attribute."""
+    and reported in the returned list's ``rejected`` attribute.
+
+    With ``remedies=True`` a variant that does not hold is also solved with connects turned the
+    other way, and its ``result.remedy`` names one that holds, as ``solve()`` does; the sweep
+    leaves it out by default (it is most of the time a variant that does not hold takes, and
+    the ranking does not read it)."""
     if not callable(build):
         raise TypeError("sweep() takes a function build(**params) that returns an Assembly")
     if not isinstance(grid, dict) or not grid:
@@ -60,7 +65,7 @@ def sweep(build, grid, threads=None, progress=True):
             raise TypeError("build(**params) must return an Assembly")
         built.append(a._assembly)
         params.append(p)
-    results = _k.solve_many(built, threads or os.cpu_count() or 1, progress)
+    results = _k.solve_many(built, threads or os.cpu_count() or 1, progress, remedies)
     variants = [Variant(p, r) for p, r in zip(params, results)]
     variants.sort(key=lambda v: (not v.stable, v.design_error))
     ranked = _Ranked(variants)

@@ -29,6 +29,22 @@ def test_clip_light_family_reproduces_figure_11():
     assert errors == sorted(errors)
 
 
+def test_sweep_leaves_remedies_out_unless_asked():
+    # XS rings, one link, the turnbuckle at 38.845 mm: the light's hanger passes through the
+    # ring, and hung through it the other way round it holds.
+    family = runpy.run_path(str(FAMILY), run_name="family")
+    grid = {"ring": ["XS"], "n": [1], "l": [38.845]}
+    plain = sweep(family["build"], grid, threads=1, progress=False)
+    asked = sweep(family["build"], grid, threads=1, progress=False, remedies=True)
+    assert len(plain) == len(asked) == 1
+    assert not plain[0].stable and plain[0].result.remedy == ""
+    assert "connected the other way round" in asked[0].result.remedy
+    assert "FabricHanger.hook1" in asked[0].result.remedy
+    # Only the remedy differs: the variant's own solve is the same.
+    assert asked[0].stable == plain[0].stable
+    assert asked[0].result.target_error == plain[0].result.target_error
+
+
 def test_sweep_reports_rejected_variants_and_checks_its_arguments():
     def build(radius):
         a = Assembly()
