@@ -416,6 +416,27 @@ TEST(Deadline, AnywhereReportsOnlyTheTimeLimit) {
   }
 }
 
+// Making a design again in the canonical order of its connects (the second half of its
+// verification) stops at a passed deadline even where no connect has a cycle to close, whose
+// closure search would have looked at it: a 400-part chain was made to its end 35 % past its
+// limit.
+TEST(Deadline, TheCanonicalOrderStopsAtAPassedDeadlineWithoutCycles) {
+  std::string yaml =
+      "fabkit: hacks/1\nenvironment:\n  - {name: bar, primitives: {rod: {type: rod, radius: 4, "
+      "length: 300}}, frame: {pos: [0, 0, 3000], rot: [90, 0, 0]}}\nparts:\n";
+  for (int i = 1; i <= 12; ++i) yaml += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
+  yaml += "connections:\n  - connect: [s1.hook1, bar.rod]\n";
+  for (int i = 2; i <= 12; ++i) {
+    yaml += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
+  }
+  const Design d = load_design_text(yaml, "chain.yaml", PartsLibrary::builtin());
+  ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+  ASSERT_TRUE(d.assembly.cycle_connections().empty());
+  EXPECT_TRUE(d.assembly.verified_in_canonical_order(std::nullopt).has_value());
+  EXPECT_FALSE(
+      d.assembly.verified_in_canonical_order(std::chrono::steady_clock::now()).has_value());
+}
+
 // The distance range between two connectors' points (the polygon inequality's sides) against a
 // finer grid of every pair: the range holds the grid's extremes (within its stated margin) and
 // is as tight as the grid, wherever the two stand. The range compares sample sets block by

@@ -267,12 +267,12 @@ class Assembly {
   Assembly in_canonical_order(
       std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt) const;
   /// The same connects made again in the canonical order and verified there, or none if a
-  /// connect does not verify that way. For connects that did not all verify in the order they
-  /// were given (a closure search that missed): this assembly may then have been made with
-  /// VerifyOptions::close_cycles off, its cycles open; the result's are closed. A chain between
-  /// two rods, for one, is closed in its middle in the canonical order, from both rods at once.
-  /// `reports`, when given, gets each connect's report from the canonical order, one per
-  /// connect in the order they were made here.
+  /// connect does not verify that way or `deadline` passes before the last. For connects that did
+  /// not all verify in the order they were given (a closure search that missed): this assembly may
+  /// then have been made with VerifyOptions::close_cycles off, its cycles open; the result's are
+  /// closed. A chain between two rods, for one, is closed in its middle in the canonical order,
+  /// from both rods at once. `reports`, when given, gets each connect's report from the canonical
+  /// order, one per connect in the order they were made here.
   std::optional<Assembly> verified_in_canonical_order(
       std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt,
       std::vector<ConnectReport>* reports = nullptr) const;
