@@ -288,14 +288,12 @@ int solve_design(Design design, const DesignSettings& settings, bool write) {
   return kExitInfeasible;
 }
 
-}  // namespace
-
-namespace {
 // The solver's helper threads are started before the design is read, so that they are running
 // by the time step 1 needs them (a new thread can wait milliseconds for its first turn).
 void start_solver_threads() {
   fabkit::start_helper_threads(hacks::SolveOptions{}.threads);
 }
+
 }  // namespace
 
 int run_solve(const DesignSettings& settings) {
