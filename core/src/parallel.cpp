@@ -125,11 +125,23 @@ struct Batch {
 // destroyed: helpers wait in it until the process ends.
 class HelperPool {
  public:
-  static HelperPool& instance() {
-    static HelperPool* const pool = new HelperPool;
-    return *pool;
+  static HelperPool& instance() { return *current(); }
+
+ private:
+  // A forked child has none of its parent's threads (a Python program's multiprocessing, for
+  // one): it gets a pool of its own, empty, and the parent's is left alone (its lock may have
+  // been held by a thread that does not exist there).
+  static HelperPool*& current() {
+    static HelperPool* pool = [] {
+#ifdef __linux__
+      pthread_atfork(nullptr, nullptr, [] { current() = new HelperPool; });
+#endif
+      return new HelperPool;
+    }();
+    return pool;
   }
 
+ public:
   void ensure(int helpers) {
     const std::lock_guard lock(mutex_);
     while (static_cast<int>(all_.size()) < helpers && start_one()) {

@@ -1,6 +1,8 @@
 #include "fabkit/core/parallel.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -132,6 +134,30 @@ TEST(Parallel, AFailedCallLeavesTheHelpersWorking) {
   std::vector<std::atomic<int>> runs(30);
   run_in_parallel(30, 2, [&](int i) { ++runs[static_cast<std::size_t>(i)]; });
   for (const std::atomic<int>& r : runs) EXPECT_EQ(r.load(), 1);
+}
+
+// A child forked after the helpers started (Python's multiprocessing does) has none of them:
+// its own calls start their own instead of waiting for ever on threads that are not there.
+TEST(Parallel, AForkedChildStartsItsOwnHelpers) {
+  start_helper_threads(2);
+  std::atomic<int> ran{0};
+  run_in_parallel(4, 2, [&](int) { ++ran; });
+  ASSERT_EQ(ran.load(), 4);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    alarm(20);  // a child that waits for ever is killed, and the test fails
+    std::atomic<int> pieces{0};
+    run_in_parallel(8, 2, [&](int) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      ++pieces;
+    });
+    _exit(pieces.load() == 8 ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFEXITED(status)) << "the child did not finish (signal " << WTERMSIG(status) << ")";
+  EXPECT_EQ(WEXITSTATUS(status), 0);
 }
 
 TEST(Parallel, NothingToDoAndThreadCounts) {
