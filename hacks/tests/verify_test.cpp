@@ -437,6 +437,35 @@ TEST(Deadline, TheCanonicalOrderStopsAtAPassedDeadlineWithoutCycles) {
       d.assembly.verified_in_canonical_order(std::chrono::steady_clock::now()).has_value());
 }
 
+// Making the parts is checked against the deadline too (most of reading a long design): with
+// it passed, no part is made, and the time limit is the only error, at the first part's line.
+TEST(Deadline, ReadingStopsBeforeMakingThePartsPastTheDeadline) {
+  std::string yaml =
+      "fabkit: hacks/1\nenvironment:\n  - {name: bar, primitives: {rod: {type: rod, radius: 4, "
+      "length: 300}}, frame: {pos: [0, 0, 3000], rot: [90, 0, 0]}}\nparts:\n";
+  for (int i = 1; i <= 12; ++i) yaml += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
+  yaml += "connections:\n  - connect: [s1.hook1, bar.rod]\n";
+  for (int i = 2; i <= 12; ++i) {
+    yaml += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
+  }
+  DesignOptions o;
+  o.verify.deadline = std::chrono::steady_clock::now();
+  const Design d = load_design_text(yaml, "chain.yaml", PartsLibrary::builtin(), o);
+  EXPECT_FALSE(d.feasible());
+  EXPECT_EQ(d.parts.count("s1"), 0u) << "a part was made";
+  EXPECT_EQ(d.parts.count("s12"), 0u) << "a part was made";
+  int errors = 0;
+  for (const Diagnostic& e : d.diagnostics) {
+    if (e.severity != Severity::kError) continue;
+    ++errors;
+    EXPECT_EQ(e.kind(), DiagnosticClass::kTimeout) << e.message;
+    EXPECT_NE(e.message.find("while making the parts (0 of 12 made)"), std::string::npos)
+        << e.message;
+    EXPECT_EQ(e.where.line, 5);  // the first part's entry
+  }
+  EXPECT_EQ(errors, 1) << d.diagnostics.format();
+}
+
 // The distance range between two connectors' points (the polygon inequality's sides) against a
 // finer grid of every pair: the range holds the grid's extremes (within its stated margin) and
 // is as tight as the grid, wherever the two stand. The range compares sample sets block by
