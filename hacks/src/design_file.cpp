@@ -165,8 +165,8 @@ class Reader {
         for (const auto& p : parts) {
           if (deadline && std::chrono::steady_clock::now() > *deadline) {
             diags_.error(codes::kTimeLimit,
-                         fmt::format("stopped at the deadline while making the parts ({} of {} "
-                                     "made); nothing was verified",
+                         fmt::format("stopped at the deadline after making {} of {} parts; nothing "
+                                     "was verified",
                                      made,
                                      total),
                          at(p));

@@ -459,7 +459,8 @@ TEST(Deadline, ReadingStopsBeforeMakingThePartsPastTheDeadline) {
     if (e.severity != Severity::kError) continue;
     ++errors;
     EXPECT_EQ(e.kind(), DiagnosticClass::kTimeout) << e.message;
-    EXPECT_NE(e.message.find("while making the parts (0 of 12 made)"), std::string::npos)
+    EXPECT_NE(e.message.find("stopped at the deadline after making 0 of 12 parts"),
+              std::string::npos)
         << e.message;
     EXPECT_EQ(e.where.line, 5);  // the first part's entry
   }
