@@ -416,11 +416,9 @@ TEST(Deadline, AnywhereReportsOnlyTheTimeLimit) {
   }
 }
 
-// Making a design again in the canonical order of its connects (the second half of its
-// verification) stops at a passed deadline even where no connect has a cycle to close, whose
-// closure search would have looked at it: a 400-part chain was made to its end 35 % past its
-// limit.
-TEST(Deadline, TheCanonicalOrderStopsAtAPassedDeadlineWithoutCycles) {
+// Twelve S-hooks hanging from a rod, one below the other (no cycle); the first part is on
+// line 5.
+std::string twelve_hook_chain() {
   std::string yaml =
       "fabkit: hacks/1\nenvironment:\n  - {name: bar, primitives: {rod: {type: rod, radius: 4, "
       "length: 300}}, frame: {pos: [0, 0, 3000], rot: [90, 0, 0]}}\nparts:\n";
@@ -429,6 +427,15 @@ TEST(Deadline, TheCanonicalOrderStopsAtAPassedDeadlineWithoutCycles) {
   for (int i = 2; i <= 12; ++i) {
     yaml += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
   }
+  return yaml;
+}
+
+// Making a design again in the canonical order of its connects (the second half of its
+// verification) stops at a passed deadline even where no connect has a cycle to close, whose
+// closure search would have looked at it: a 400-part chain was made to its end 35 % past its
+// limit.
+TEST(Deadline, TheCanonicalOrderStopsAtAPassedDeadlineWithoutCycles) {
+  const std::string yaml = twelve_hook_chain();
   const Design d = load_design_text(yaml, "chain.yaml", PartsLibrary::builtin());
   ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
   ASSERT_TRUE(d.assembly.cycle_connections().empty());
@@ -440,14 +447,7 @@ TEST(Deadline, TheCanonicalOrderStopsAtAPassedDeadlineWithoutCycles) {
 // Making the parts is checked against the deadline too (most of reading a long design): with
 // it passed, no part is made, and the time limit is the only error, at the first part's line.
 TEST(Deadline, ReadingStopsBeforeMakingThePartsPastTheDeadline) {
-  std::string yaml =
-      "fabkit: hacks/1\nenvironment:\n  - {name: bar, primitives: {rod: {type: rod, radius: 4, "
-      "length: 300}}, frame: {pos: [0, 0, 3000], rot: [90, 0, 0]}}\nparts:\n";
-  for (int i = 1; i <= 12; ++i) yaml += fmt::format("  - {{name: s{}, part: DoubleHook}}\n", i);
-  yaml += "connections:\n  - connect: [s1.hook1, bar.rod]\n";
-  for (int i = 2; i <= 12; ++i) {
-    yaml += fmt::format("  - connect: [s{}.hook1, s{}.hook2]\n", i, i - 1);
-  }
+  const std::string yaml = twelve_hook_chain();
   DesignOptions o;
   o.verify.deadline = std::chrono::steady_clock::now();
   const Design d = load_design_text(yaml, "chain.yaml", PartsLibrary::builtin(), o);
