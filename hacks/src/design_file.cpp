@@ -159,11 +159,10 @@ class Reader {
       } else {
         // Making a part (its mesh, its collision body) is most of reading a long design: a
         // 400-part chain's parts took 23-36 ms, past a deadline nothing else looked at.
-        const auto& deadline = options_.verify.deadline;
         const std::size_t total = parts.size();
         std::size_t made = 0;
         for (const auto& p : parts) {
-          if (deadline && std::chrono::steady_clock::now() > *deadline) {
+          if (past_deadline()) {
             diags_.error(codes::kTimeLimit,
                          fmt::format("stopped at the deadline after making {} of {} parts; nothing "
                                      "was verified",
@@ -247,8 +246,6 @@ class Reader {
       diags_.append(step.report.diagnostics);
       design.steps.push_back(std::move(step));
     }
-    const auto& deadline = options_.verify.deadline;
-    auto past_deadline = [&] { return deadline && std::chrono::steady_clock::now() > *deadline; };
     std::size_t verified = 0;
     for (const ConnectDecl& c : connects) {
       if (past_deadline()) {
@@ -385,6 +382,12 @@ class Reader {
       step.skipped = true;
       design.steps.push_back(std::move(step));
     }
+  }
+
+  // Whether the verification's deadline has passed (reading stops at it as verifying does).
+  bool past_deadline() const {
+    const auto& deadline = options_.verify.deadline;
+    return deadline && std::chrono::steady_clock::now() > *deadline;
   }
 
   SourceLocation at(const YAML::Node& n) const { return in_.at(n); }
