@@ -166,6 +166,52 @@ TEST(ManifoldSolver, GaugePairsFoldedRestWhereTheyRestUnfolded) {
   }
 }
 
+// A relaxation that ends at a minimum can hand back its last model as the curvature there:
+// the one curvature() makes at that point (every eigenvalue, the neutral directions' span,
+// the free coordinates and rows), folded or not; only when asked.
+TEST(ManifoldSolver, RelaxHandsBackTheCurvatureWhereItRests) {
+  constexpr int m = 45;  // 90 variables, a gauge per pair: 45 neutral directions unfolded
+  std::mt19937 rng(23);
+  std::normal_distribution<double> normal;
+  const RandomQuadratic q = random_quadratic(m, rng);
+  GaugeQuadratic problem(q.a, q.b);
+  Eigen::VectorXd start(2 * m);
+  for (int i = 0; i < 2 * m; ++i) start[i] = 0.3 * normal(rng);
+  const double gap = problem.combined(start).sum() - 1;
+  for (int i = 0; i < m; ++i) start[2 * i] -= gap / m;
+  const double inf = std::numeric_limits<double>::infinity();
+  const Eigen::VectorXd lo = Eigen::VectorXd::Constant(2 * m, -inf);
+  const Eigen::VectorXd hi = Eigen::VectorXd::Constant(2 * m, inf);
+  for (int fold_from : {64, 1 << 30}) {
+    SCOPED_TRACE(testing::Message() << "fold from " << fold_from);
+    ManifoldSolverOptions o;
+    o.fold_gauge_from = fold_from;
+    EXPECT_FALSE(ManifoldSolver(problem, lo, hi, o).relax(start, 500).curvature.has_value());
+    o.curvature_at_rest = true;
+    ManifoldSolver solver(problem, lo, hi, o);
+    const ManifoldSolver::Result r = solver.relax(start, 500);
+    ASSERT_TRUE(r.closed && r.converged);
+    ASSERT_TRUE(r.curvature.has_value());
+    const ManifoldSolver::Curvature made = solver.curvature(solver.evaluate(r.z));
+    const ManifoldSolver::Curvature& handed = *r.curvature;
+    EXPECT_EQ(handed.free, made.free);
+    EXPECT_EQ(handed.rows, made.rows);
+    EXPECT_EQ(handed.binding, 0);
+    ASSERT_EQ(handed.eigenvalues.size(), made.eigenvalues.size());
+    const double largest = made.eigenvalues.cwiseAbs().maxCoeff();
+    EXPECT_LT((handed.eigenvalues - made.eigenvalues).cwiseAbs().maxCoeff(), 1e-9 * largest);
+    EXPECT_NEAR(handed.neutral_threshold, made.neutral_threshold, 1e-9 * made.neutral_threshold);
+    ASSERT_EQ(handed.directions.cols(), made.directions.cols());
+    EXPECT_EQ(made.directions.cols(), fold_from == 64 ? 0 : m);
+    if (made.directions.cols() > 0) {
+      // The same span: each handed direction lies in the made ones' (orthonormal) span.
+      const Eigen::MatrixXd off =
+          handed.directions - made.directions * (made.directions.transpose() * handed.directions);
+      EXPECT_LT(off.cwiseAbs().maxCoeff(), 1e-8);
+    }
+  }
+}
+
 // Residuals r = B·z − d, fewer than the variables.
 class LinearResiduals : public ManifoldProblem {
  public:

@@ -17,6 +17,8 @@ solvers::ManifoldSolverOptions solver_options(
   }
   // A fit within about a tenth of a millimetre of its goal is not finished (tolerances.h).
   if (objective == Objective::kTarget) o.finish_above = kFitCloseEnough;
+  // Step 2's relaxations are judged where they end (check_stability), from their last model.
+  o.curvature_at_rest = objective == Objective::kEnergy;
   o.feasibility_tolerance = kClosureTolerance;
   o.projection_tolerance = kProjectionTolerance;
   o.inequality_margin = kInequalityMargin;
@@ -77,6 +79,7 @@ StepResult AssemblySolver::to_step(const solvers::ManifoldSolver::Result& r,
     return out;
   }
   from_z(vars_, std::vector<double>(r.z.data(), r.z.data() + r.z.size()), out.x);
+  out.curvature = r.curvature;
   return out;
 }
 

@@ -477,7 +477,7 @@ SolveResult solve_where_it_stands(const Assembly& assembly, const SolveOptions& 
     }
     out.x = std::move(x0);
     if (!opts.relax) watch_contacts(problem, out.x);
-    out.verdict = check_stability(problem, vars, out.x, opts);
+    out.verdict = check_stability(problem, vars, out.x, opts, opts.relax ? &out.step : nullptr);
     // Past the deadline the result is "stopped" whatever it overlaps; the closing contact
     // listing says what it found.
     if (!stop->passed()) out.overlap = deepest_overlap(problem, out.x).depth;

@@ -297,10 +297,31 @@ StepResult run_step2(Problem& p,
   return avoiding_contacts(p, start, run, o, unfold);
 }
 
+namespace {
+
+// Whether x is where `relaxed` ended, up to whole turns of its unbounded angles (the verdict
+// is asked of the wrapped angles).
+bool same_configuration(const Assembly& a,
+                        const Variables& vars,
+                        const std::vector<double>& x,
+                        const StepResult& relaxed) {
+  for (int index : vars.index) {
+    const auto i = static_cast<std::size_t>(index);
+    const double difference = x[i] - relaxed.x[i];
+    if (difference == 0) continue;
+    if (a.parameters()[i].spec.tag != ParamTag::kUnbounded) return false;
+    if (std::abs(std::remainder(difference, 360.0)) > 1e-9) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 StabilityReport check_stability(const Problem& p,
                                 const Variables& vars,
                                 const std::vector<double>& x,
-                                const SolveOptions& o) {
+                                const SolveOptions& o,
+                                const StepResult* relaxed) {
   if (vars.index.empty() || p.total_mass <= 0) return {};
   // The deadline bounds the second-order check too (a Hessian costs an evaluation per
   // variable); past it the curvature is not known and the solve reports a time-out.
@@ -347,7 +368,14 @@ StabilityReport check_stability(const Problem& p,
   }
   // Second order: the curvature along the allowed motions. Neutral directions are named by
   // the parameters they move most.
-  const solvers::ManifoldSolver::Curvature curv = solver.curvature(pt);
+  // The relaxation's last model is this curvature where it was made with the same free
+  // coordinates and rows, and no inequality binding (contact rows are numbered by the pairs
+  // each run watched, so only the equalities are the same rows by number).
+  const ManifoldSolver::Curvature* known =
+      relaxed && relaxed->curvature ? &*relaxed->curvature : nullptr;
+  const bool lent = known && known->binding == 0 && pt.binding.empty() && known->free == act.free &&
+                    known->rows == act.rows && same_configuration(a, vars, x, *relaxed);
+  const ManifoldSolver::Curvature curv = lent ? *known : solver.curvature(pt);
   report.neutral_threshold = curv.neutral_threshold;
   if (curv.eigenvalues.size() > 0) report.smallest_curvature = curv.eigenvalues[0];
   for (int i = 0; i < curv.directions.cols(); ++i) {

@@ -24,6 +24,8 @@ struct StepResult {
   int iterations = 0;
   int escapes = 0;
   std::string note;
+  /// A relaxation that ended at a minimum: the curvature at x (its last model).
+  std::optional<solvers::ManifoldSolver::Curvature> curvature;
 };
 
 /// The ManifoldSolver on one of the assembly's problems, in the parameter vector's terms.
@@ -329,11 +331,14 @@ struct StabilityReport {
 
 /// The verdict at x: the equilibrium residual (largest slope of the potential along the
 /// motions the connections and bounds allow) and every open bound that the potential pulls a
-/// connection out of.
+/// connection out of. `relaxed`, the relaxation that ended at x (up to whole turns of its
+/// unbounded angles), lends its last model's curvature where that model is the one the check
+/// would make (the same free coordinates and rows, no contact binding).
 StabilityReport check_stability(const Problem& p,
                                 const Variables& vars,
                                 const std::vector<double>& x,
-                                const SolveOptions& o);
+                                const SolveOptions& o,
+                                const StepResult* relaxed = nullptr);
 
 /// "DoubleHook#2.hook1 slides off the open end of door.rod (t = 1)".
 std::string slip_message(const Assembly& a, int index, bool at_upper);

@@ -318,6 +318,53 @@ TEST(Properties, WatchingContactsFromTheStartRestsWhereThePlainRunFirstDoes) {
   }
 }
 
+// A relaxation that ends at a minimum hands its last model to the stability check, which
+// would otherwise make it again: where it does, the verdict is the one the check makes itself
+// (the same slips, residual, curvatures and neutral count), whatever whole turns the angles
+// are wrapped by.
+TEST(Properties, TheStabilityCheckMayUseTheRelaxationsLastModel) {
+  int lent = 0;
+  for (const char* name : testing::kGalleryExamples) {
+    SCOPED_TRACE(name);
+    const Design d = load_example(name);
+    ASSERT_TRUE(d.feasible()) << d.diagnostics.format();
+    const Assembly& a = d.assembly;
+    const SolveOptions options;
+    const SolveResult solved = solve(a, options);
+    detail::Problem p = detail::make_problem(a);
+    p.contacts = std::make_shared<const detail::ContactModel>(a);
+    const detail::Variables vars = detail::select_variables(a, /*physics=*/true, &p);
+    const detail::StepResult r = detail::run_step2(p, vars, solved.step1_parameters, options);
+    if (!r.closed || !r.curvature) continue;
+    ++lent;
+    std::vector<double> x = r.x;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (a.parameters()[i].spec.tag == ParamTag::kUnbounded) x[i] = wrap_360(x[i]);
+    }
+    const detail::StabilityReport made = detail::check_stability(p, vars, x, options);
+    const detail::StabilityReport reused = detail::check_stability(p, vars, x, options, &r);
+    EXPECT_EQ(made.slips.size(), reused.slips.size());
+    EXPECT_EQ(made.equilibrium_residual, reused.equilibrium_residual);
+    EXPECT_EQ(made.neutral_directions.size(), reused.neutral_directions.size());
+    // The same model up to the Hessian's own precision (its closure terms are differenced)
+    // and the angles' whole turns: the largest curvature, which sets the threshold, to 10⁻⁶,
+    // the smallest to a hundredth of the threshold, and so the same verdict.
+    EXPECT_NEAR(made.neutral_threshold, reused.neutral_threshold, 1e-6 * made.neutral_threshold);
+    EXPECT_NEAR(made.smallest_curvature,
+                reused.smallest_curvature,
+                std::max(1e-12, 0.01 * made.neutral_threshold));
+    EXPECT_EQ(made.smallest_curvature < -made.neutral_threshold,
+              reused.smallest_curvature < -reused.neutral_threshold);
+    // Not a relaxation's end: nothing is lent, and the check makes its own.
+    detail::StepResult elsewhere = r;
+    elsewhere.x[static_cast<std::size_t>(vars.index.front())] += 1.0;
+    const detail::StabilityReport own = detail::check_stability(p, vars, x, options, &elsewhere);
+    EXPECT_EQ(own.smallest_curvature, made.smallest_curvature);
+  }
+  // Most of the gallery's relaxations end at a minimum without contact rows binding.
+  EXPECT_GE(lent, 8);
+}
+
 // The solver leaves gauge pairs out of its large models (ManifoldSolverOptions::
 // fold_gauge_from): two turns whose sum alone moves anything. What the evaluator reports as one
 // must be one: every part stays where it is when the pair turns along its null direction by a

@@ -742,7 +742,16 @@ ManifoldSolver::Curvature ManifoldSolver::curvature(const Point& p) {
   // As the relaxations' models are decomposed (LAPACK's divide and conquer from
   // Eigenbasis::kFactoredFrom): Eigen's QR iteration formed every eigenvector by rotations, a
   // third of a 128-hook chain's solve.
-  const Eigenbasis eig(H);
+  return curvature_from(p, act, Eigenbasis(H));
+}
+
+ManifoldSolver::Curvature ManifoldSolver::curvature_from(const Point& p,
+                                                         const Active& act,
+                                                         const Eigenbasis& eig) const {
+  Curvature c;
+  c.free = act.free;
+  c.rows = act.rows;
+  c.binding = static_cast<int>(p.binding.size());
   c.eigenvalues = eig.values();
   const double largest = c.eigenvalues.size() ? c.eigenvalues.cwiseAbs().maxCoeff() : 0.0;
   c.neutral_threshold = std::max(options_.neutral_floor, options_.neutral_curvature * largest);
@@ -910,7 +919,13 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     const bool stationary = rg.cwiseAbs().maxCoeff() < options_.gradient_tolerance;
     if (stationary && lambda[0] >= 0) {
       if (release()) continue;
-      break;  // a minimum (up to neutral directions)
+      // A minimum (up to neutral directions). Its model is the curvature there, which the
+      // caller's stability check would make again: a model of a 64-hook chain, about a tenth
+      // of its solve. (No coordinate was held: release() found none, so act is active_set's.)
+      if (options_.curvature_at_rest && !small_curvatures) {
+        out.curvature = curvature_from(cur, act, *V);
+      }
+      break;
     }
     if (floor.window > 0) {
       progress.push_back(cur.f);

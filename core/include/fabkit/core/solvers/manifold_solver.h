@@ -25,6 +25,8 @@
 
 namespace fabkit::solvers {
 
+class Eigenbasis;
+
 /// The functions a ManifoldSolver works with, in scaled coordinates z (≈ mm of motion).
 /// Rows, in order: the objective (1 row: a potential; more: least-squares residuals), the
 /// equalities h(z) = 0, then the inequalities g(z) ≤ 0.
@@ -118,6 +120,9 @@ struct ManifoldSolverOptions {
   /// another, which goes on from wherever it ends.
   int progress_window = 0;
   double least_progress = 0;
+  /// relax() ending at a minimum returns its last model's curvature there (Result::curvature),
+  /// for a caller that judges the point next.
+  bool curvature_at_rest = false;
   /// fit() finishes a crawling Levenberg-Marquardt run with Newton's method only while f is
   /// above this: below it the residuals are as small as the caller needs, and a Newton model
   /// of a large problem costs far more than the little it would gain there. 0: always.
@@ -188,14 +193,6 @@ class ManifoldSolver {
     /// B·Z itself (free × motions), formed column by column.
     Eigen::MatrixXd basis() const;
   };
-  struct Result {
-    Eigen::VectorXd z;
-    bool converged = true;  ///< stopped by a tolerance, not by the iteration limit
-    bool closed = true;     ///< the equalities hold
-    bool timed_out = false;
-    int iterations = 0;
-    int escapes = 0;  ///< relax(): steps away from saddles and maxima
-  };
   /// Second-order information at a point: the reduced Hessian of the Lagrangian along the
   /// allowed motions, in its eigenbasis.
   struct Curvature {
@@ -205,6 +202,20 @@ class ManifoldSolver {
     Eigen::MatrixXd directions;
     double neutral_threshold = 0;  ///< |eigenvalue| below this is neutral
     std::vector<int> free;         ///< coordinates the directions move
+    std::vector<int> rows;         ///< the rows of Point::h the motions keep (Active::rows)
+    int binding = 0;               ///< how many of them are binding inequalities
+  };
+  struct Result {
+    Eigen::VectorXd z;
+    bool converged = true;  ///< stopped by a tolerance, not by the iteration limit
+    bool closed = true;     ///< the equalities hold
+    bool timed_out = false;
+    int iterations = 0;
+    int escapes = 0;  ///< relax(): steps away from saddles and maxima
+    /// relax() ending at a minimum, with options().curvature_at_rest: the curvature there, as
+    /// curvature() finds it (its last model), so that a caller judging the point need not
+    /// make it again.
+    std::optional<Curvature> curvature;
   };
 
   ManifoldSolver(ManifoldProblem& problem,
@@ -302,6 +313,9 @@ class ManifoldSolver {
                               const std::vector<int>& kept) const;
   static std::vector<int> all_rows(const Point& p);
   Result finish(const Point& cur, int iterations, int max_iterations, Result out) const;
+  /// The curvature at p from its model's eigendecomposition: every eigenvalue, and the
+  /// directions of the neutral ones.
+  Curvature curvature_from(const Point& p, const Active& act, const Eigenbasis& eig) const;
 
   ManifoldProblem& problem_;
   int n_;
