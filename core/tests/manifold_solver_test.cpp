@@ -125,21 +125,26 @@ class GaugeQuadratic : public ManifoldProblem {
   Eigen::VectorXd b_;
 };
 
+// A random start of the gauge problem that meets its constraint Σ u = 1.
+Eigen::VectorXd closed_gauge_start(const GaugeQuadratic& problem, int m, std::mt19937& rng) {
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd start(2 * m);
+  for (int i = 0; i < 2 * m; ++i) start[i] = 0.3 * normal(rng);
+  const double gap = problem.combined(start).sum() - 1;
+  for (int i = 0; i < m; ++i) start[2 * i] -= gap / m;
+  return start;
+}
+
 // Folded (the default from 64 free coordinates) or not, relax reaches the same minimum, and
 // folded it never moves along a gauge's null direction.
 TEST(ManifoldSolver, GaugePairsFoldedRestWhereTheyRestUnfolded) {
   constexpr int m = 45;  // 90 variables
   std::mt19937 rng(17);
-  std::normal_distribution<double> normal;
   const RandomQuadratic q = random_quadratic(m, rng);
   const Eigen::VectorXd& expected = q.minimum;
 
   GaugeQuadratic problem(q.a, q.b);
-  Eigen::VectorXd start(2 * m);
-  for (int i = 0; i < 2 * m; ++i) start[i] = 0.3 * normal(rng);
-  // Closed: Σ u = 1.
-  const double gap = problem.combined(start).sum() - 1;
-  for (int i = 0; i < m; ++i) start[2 * i] -= gap / m;
+  const Eigen::VectorXd start = closed_gauge_start(problem, m, rng);
   const double inf = std::numeric_limits<double>::infinity();
   for (int fold_from : {64, 1 << 30}) {
     SCOPED_TRACE(testing::Message() << "fold from " << fold_from);
@@ -172,13 +177,9 @@ TEST(ManifoldSolver, GaugePairsFoldedRestWhereTheyRestUnfolded) {
 TEST(ManifoldSolver, RelaxHandsBackTheCurvatureWhereItRests) {
   constexpr int m = 45;  // 90 variables, a gauge per pair: 45 neutral directions unfolded
   std::mt19937 rng(23);
-  std::normal_distribution<double> normal;
   const RandomQuadratic q = random_quadratic(m, rng);
   GaugeQuadratic problem(q.a, q.b);
-  Eigen::VectorXd start(2 * m);
-  for (int i = 0; i < 2 * m; ++i) start[i] = 0.3 * normal(rng);
-  const double gap = problem.combined(start).sum() - 1;
-  for (int i = 0; i < m; ++i) start[2 * i] -= gap / m;
+  const Eigen::VectorXd start = closed_gauge_start(problem, m, rng);
   const double inf = std::numeric_limits<double>::infinity();
   const Eigen::VectorXd lo = Eigen::VectorXd::Constant(2 * m, -inf);
   const Eigen::VectorXd hi = Eigen::VectorXd::Constant(2 * m, inf);
