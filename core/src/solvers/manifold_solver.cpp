@@ -920,8 +920,8 @@ ManifoldSolver::Result ManifoldSolver::newton(const Eigen::VectorXd& z0,
     if (stationary && lambda[0] >= 0) {
       if (release()) continue;
       // A minimum (up to neutral directions). Its model is the curvature there, which the
-      // caller's stability check would make again: a model of a 64-hook chain, about a tenth
-      // of its solve. (No coordinate was held: release() found none, so act is active_set's.)
+      // caller's stability check would make again (4 % of a 64-hook chain's instructions). No
+      // coordinate was held (release() found none), so act is active_set's.
       if (options_.curvature_at_rest && !small_curvatures) {
         out.curvature = curvature_from(cur, act, *V);
       }
