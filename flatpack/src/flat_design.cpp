@@ -10,6 +10,7 @@
 #include <cmath>
 #include <set>
 
+#include "fabkit/core/stop_clock.h"
 #include "fabkit/core/yaml_reader.h"
 #include "fabkit/flatpack/diagnostic_codes.h"
 
@@ -431,7 +432,7 @@ bool solve_quantities(const FlatDesign& flat,
   std::size_t compiled = 0;
   for (const FlatConstraint& c : flat.constraints) {
     // Compiling is most of a first solve (tens of microseconds an expression).
-    if (deadline && std::chrono::steady_clock::now() > *deadline) {
+    if (deadline_passed(deadline)) {
       diags.error(codes::kTimeLimit,
                   fmt::format("stopped at the deadline after compiling {} of {} constraints; the "
                               "dimensions, shapes, placement, joints and the assembly order were "

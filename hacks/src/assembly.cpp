@@ -14,6 +14,7 @@
 #include "constraints.h"
 #include "cycle_closure.h"
 #include "distance_bounds.h"
+#include "fabkit/core/stop_clock.h"
 #include "fabkit/core/text.h"
 #include "fabkit/core/yaml_reader.h"
 #include "fabkit/hacks/diagnostic_codes.h"
@@ -1045,7 +1046,7 @@ std::optional<Assembly> Assembly::made_in(
   for (const CanonicalConnect& k : order) {
     // A connect without a cycle to close never looks at the deadline: checked here, or a long
     // chain was made again to its end past it (a 400-part chain's check 35 % over its limit).
-    if (deadline && std::chrono::steady_clock::now() > *deadline) return std::nullopt;
+    if (deadline_passed(deadline)) return std::nullopt;
     const ConnectRequest& c = connects_made_[k.index];
     ConnectOptions o = c.options;
     o.verify.deadline = deadline;  // the one the connect was made under may be long past

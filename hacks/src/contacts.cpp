@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "fabkit/core/stop_clock.h"
+
 namespace fabkit::hacks::detail {
 
 ContactModel::ContactModel(const Assembly& a) {
@@ -82,7 +84,7 @@ bool ContactModel::for_near_pairs(const std::vector<Mat4>& frames,
     for (int b = a + 1; b < n; ++b) {
       if (!has_body(b)) continue;
       if (!moving[static_cast<std::size_t>(a)] && !moving[static_cast<std::size_t>(b)]) continue;
-      if (deadline && std::chrono::steady_clock::now() > *deadline) return false;
+      if (deadline_passed(deadline)) return false;
       if (collision::box_gap(whole[static_cast<std::size_t>(a)],
                              whole[static_cast<std::size_t>(b)]) > cutoff) {
         continue;

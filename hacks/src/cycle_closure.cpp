@@ -15,6 +15,7 @@
 #include <set>
 
 #include "constraints.h"
+#include "fabkit/core/stop_clock.h"
 #include "kinematics.h"
 #include "random.h"
 
@@ -162,7 +163,7 @@ class StallCallback : public ceres::IterationCallback {
     const double c = 2 * s.cost;  // Ceres reports ½‖r‖²
     if (c <= tolerance_) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     // Checked per iteration: one start's fit of a long cycle takes tens of milliseconds.
-    if (deadline_ && std::chrono::steady_clock::now() > *deadline_) return ceres::SOLVER_ABORT;
+    if (deadline_passed(deadline_)) return ceres::SOLVER_ABORT;
     history_.push_back(c);
     if (stop_stalled && history_.size() > 10 && c > kStallFactor * history_[history_.size() - 11]) {
       return ceres::SOLVER_ABORT;
@@ -566,7 +567,7 @@ ClosureResult close_cycles(const Assembly& assembly,
         }
         const double keep = first > 0 ? std::min(1.0, left / first) : 0.0;
         solve(kPhaseOneRotationWeight + (1 - kPhaseOneRotationWeight) * (1 - keep) * (1 - keep));
-        if (options.deadline && std::chrono::steady_clock::now() > *options.deadline) break;
+        if (deadline_passed(options.deadline)) break;
       }
       from = to;
     }
@@ -649,7 +650,7 @@ ClosureResult close_cycles(const Assembly& assembly,
   }();
   const int starts = std::max(1, options.restarts);
   for (int start = 0; start < starts; ++start) {
-    if (options.deadline && std::chrono::steady_clock::now() > *options.deadline) break;
+    if (deadline_passed(options.deadline)) break;
     result.starts = start + 1;
     if (start == 2 && drag()) break;
     load_start(start);
@@ -670,7 +671,7 @@ ClosureResult close_cycles(const Assembly& assembly,
   // ends the search; one that misses costs 0.02-0.2 s, which is why not more: eight made a
   // failing 10-hook search 1.7 s).
   for (int k = 0; k < kStretchTries && best > options.tolerance && options.stretch_start &&
-                  !(options.deadline && std::chrono::steady_clock::now() > *options.deadline);
+                  !deadline_passed(options.deadline);
        ++k) {
     nudge = k;
     stretch();

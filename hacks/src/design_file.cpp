@@ -8,6 +8,7 @@
 #include <set>
 
 #include "fabkit/core/file_io.h"
+#include "fabkit/core/stop_clock.h"
 #include "fabkit/core/text.h"
 #include "fabkit/core/yaml_reader.h"
 #include "fabkit/hacks/deadline.h"
@@ -385,10 +386,7 @@ class Reader {
   }
 
   // Whether the verification's deadline has passed (reading stops at it as verifying does).
-  bool past_deadline() const {
-    const auto& deadline = options_.verify.deadline;
-    return deadline && std::chrono::steady_clock::now() > *deadline;
-  }
+  bool past_deadline() const { return deadline_passed(options_.verify.deadline); }
 
   SourceLocation at(const YAML::Node& n) const { return in_.at(n); }
   void error(DiagnosticCode code, std::string msg, SourceLocation where) {

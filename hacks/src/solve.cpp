@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "fabkit/core/parallel.h"
+#include "fabkit/core/stop_clock.h"
 #include "fabkit/hacks/diagnostic_codes.h"
 #include "solve_internal.h"
 #include "steps.h"
@@ -277,7 +278,7 @@ std::string remedy_for(const Assembly& assembly,
   again.other_closings = 0;
   again.on_stage = nullptr;
   for (const ConnectionId id : candidates) {
-    if (options.deadline && std::chrono::steady_clock::now() >= *options.deadline) break;
+    if (deadline_passed(options.deadline)) break;
     const std::optional<Assembly> turned = assembly.with_alignment_turned(id, options.deadline);
     if (!turned || !solve_placed(*turned, again).stable) continue;
     const Connection& c = assembly.connection(id);

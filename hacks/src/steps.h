@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fabkit/core/parallel.h"
+#include "fabkit/core/stop_clock.h"
 #include "fabkit/hacks/solve.h"
 #include "kinematics.h"
 
@@ -115,7 +116,7 @@ inline constexpr int kUnfoldTriesPerGroup = 8;
 /// Whether the solve's deadline has passed (or was called by a step that could not finish).
 inline bool past_deadline(const Problem& p, const SolveOptions& o) {
   if (p.stop) return p.stop->passed();
-  return o.deadline && std::chrono::steady_clock::now() > *o.deadline;
+  return deadline_passed(o.deadline);
 }
 
 /// Iterations of one run: runs with contact rows get fewer (each evaluation queries every

@@ -5,6 +5,7 @@
 
 #include <chrono>
 
+#include "fabkit/core/stop_clock.h"
 #include "fabkit/core/yaml_reader.h"
 #include "fabkit/templates/diagnostic_codes.h"
 #include "fabkit/templates/extract.h"
@@ -25,7 +26,7 @@ void append_at(Diagnostics& into, const Diagnostics& from, const SourceLocation&
 }
 
 bool past(const CheckOptions& o) {
-  return o.deadline && Clock::now() > *o.deadline;
+  return deadline_passed(o.deadline);
 }
 
 std::string vec_text(const Vec3& v) {

@@ -10,6 +10,7 @@
 #include <map>
 #include <set>
 
+#include "fabkit/core/stop_clock.h"
 #include "fabkit/templates/diagnostic_codes.h"
 #include "fabkit/templates/extract.h"
 
@@ -275,7 +276,7 @@ ConnectResult connect(WorkingModel& wm,
     for (std::size_t i = 0; i < candidates.size(); ++i) {
       // Each candidate costs a copy of the model and a projection (about a millisecond): past
       // the deadline the rest are not tried, and the caller reports the time limit.
-      if (o.manipulate.deadline && std::chrono::steady_clock::now() > *o.manipulate.deadline) break;
+      if (deadline_passed(o.manipulate.deadline)) break;
       const Candidate& cand = candidates[i];
       const Connection& c = cand.source->connections[cand.connection.value];
       Template trial = model;

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <numeric>
 
+#include "fabkit/core/stop_clock.h"
 #include "fabkit/templates/diagnostic_codes.h"
 #include "qp.h"
 
@@ -211,7 +212,7 @@ StabilityResult check_stability(const Template& t,
     const qp::Result r =
         cut ? qp::Result{p.start, {}, false, 0, "stopped at the deadline"} : qp::solve(p, s);
     lambda = r.z.cwiseMax(0.0);
-    if (o.deadline && Clock::now() > *o.deadline && !r.converged) {
+    if (deadline_passed(o.deadline) && !r.converged) {
       // Cut short: the forces found so far say nothing about what would balance.
       out.timed_out = true;
       out.stable = false;

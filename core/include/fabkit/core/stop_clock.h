@@ -15,6 +15,11 @@
 
 namespace fabkit {
 
+/// Whether `deadline` has passed (none: it never does).
+inline bool deadline_passed(const std::optional<std::chrono::steady_clock::time_point>& deadline) {
+  return deadline && std::chrono::steady_clock::now() > *deadline;
+}
+
 class StopClock {
  public:
   using Clock = std::chrono::steady_clock;
@@ -30,7 +35,7 @@ class StopClock {
   bool passed() const {
     if (called_.load(std::memory_order_relaxed)) return true;
     if (parent_) return parent_->passed();
-    return at_ && Clock::now() > *at_;
+    return deadline_passed(at_);
   }
 
   /// Whether work expected to take `cost` would end past the deadline. If it would, the
